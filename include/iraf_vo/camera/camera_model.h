@@ -1,0 +1,49 @@
+// Camera models shared by every stage (simulator, tracker, BA, evaluation).
+// ROS-free. Implementations: PinholeRadtan (EuRoC cam0) and KannalaBrandt (TUM-VI cam0, equidistant).
+#pragma once
+
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace iraf_vo {
+
+class CameraModel {
+ public:
+  virtual ~CameraModel() = default;
+
+  /// "pinhole-radtan" or "kannala-brandt" (one name per model across code, yaml and docs).
+  virtual std::string modelName() const = 0;
+  int width() const { return width_; }
+  int height() const { return height_; }
+
+  /// Project a 3D point in the camera frame (z forward, REP-103 optical frame) to distorted pixels.
+  /// Returns false when the point is behind the camera / outside the model's valid domain.
+  /// If J is non-null it receives d(pixel)/d(point) (2x3).
+  virtual bool project(const Eigen::Vector3d& p_c, Eigen::Vector2d* uv,
+                       Eigen::Matrix<double, 2, 3>* J = nullptr) const = 0;
+
+  /// Unproject a distorted pixel to a unit-norm bearing vector in the camera frame.
+  virtual bool unproject(const Eigen::Vector2d& uv, Eigen::Vector3d* bearing) const = 0;
+
+  /// Undistort a pixel to normalized image coordinates (x/z, y/z). Fails for rays with z <= 0.
+  bool undistortToNormalized(const Eigen::Vector2d& uv, Eigen::Vector2d* xy) const;
+
+  /// Intrinsic parameters in the model's own order (fx fy cx cy, then distortion), for BA.
+  virtual std::vector<double> parameters() const = 0;
+
+  /// Focal length in pixels (mean of fx, fy): converts pixel thresholds to angles.
+  virtual double focal() const = 0;
+
+  /// 4x4 row-major T_BS (sensor to body), identity when the file has none.
+  Eigen::Matrix4d T_BS = Eigen::Matrix4d::Identity();
+
+ protected:
+  int width_ = 0;
+  int height_ = 0;
+};
+
+using CameraModelPtr = std::shared_ptr<const CameraModel>;
+
+}  // namespace iraf_vo

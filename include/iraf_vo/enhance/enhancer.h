@@ -1,0 +1,92 @@
+// Image enhancement stage of IRAF-SLAM (paper section II-A, eqs. 1-12). ROS-free.
+//
+//   I_blurred = I * G_gauss                                        eqs. (1)-(2)
+//   mu, t = (mu - mu_expected) / mu_expected -> dim / normal / bright  eqs. (9)-(10)
+//   AGCWD LUT on I_blurred (inverted first for bright images)      eqs. (3)-(8)
+//   G_mask = I - I_blurred                                         eq. (11)
+//   I' = I_blurred + epsilon * (I_gamma - I_gauss) + eta * G_mask  eq. (12)
+//
+// I_gauss in eq. (12) is the same Gaussian-filtered image as I_blurred (the paper uses both names).
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+#include <array>
+#include <string>
+
+namespace iraf_vo {
+
+enum class BrightnessClass { kDim = -1, kNormal = 0, kBright = 1 };
+const char* toString(BrightnessClass c);
+
+/// Which preprocessing runs. `iraf` is the paper's pipeline; `he` / `clahe` are the comparison
+/// front-ends of the paper's Table I (HE-SLAM, CLAHE-SLAM); `none` passes the image through.
+enum class EnhanceMethod { kNone = 0, kIraf = 1, kHe = 2, kClahe = 3 };
+const char* toString(EnhanceMethod m);
+/// Parses "none" | "iraf" | "he" | "clahe"; returns false for anything else.
+bool parseEnhanceMethod(const std::string& s, EnhanceMethod* m);
+
+struct EnhanceParams {
+  EnhanceMethod method = EnhanceMethod::kIraf;
+
+  // eqs. (1)-(2): Gaussian filter. Not given in the paper or the authors' code: 5x5, sigma 1.0
+  // removes sensor noise without erasing FAST-scale corners (unsharp masking restores edges).
+  int gaussian_kernel_size = 5;  // odd, >= 1 (1 = no smoothing)
+  double gaussian_sigma = 1.0;
+
+  // eqs. (9)-(10): brightness classification.
+  double mu_expected = 112.0;         // expected mean intensity; 112 generic, 50 used for EuRoC
+  double brightness_threshold = 0.3;  // |t| above this -> dim (t < 0) or bright (t > 0)
+
+  // eqs. (5)-(7) for dim images: smoothness lambda and lower gamma bound tau.
+  double dim_lambda = 0.75;
+  double dim_tau = 0.5;
+  // The same on the inverted image for over-bright images ("dimming").
+  double bright_lambda = 0.25;
+  double bright_tau = 0.5;
+
+  // eq. (12): weights of the gamma term (epsilon) and of the unsharp mask (eta, the unsharp amount).
+  double epsilon = 1.0;
+  double eta = 1.5;
+
+  // Comparison front-ends (Table I): CLAHE as ORB-SLAM3 uses it for TUM-VI.
+  double clahe_clip_limit = 3.0;
+  int clahe_tiles = 8;
+};
+
+struct EnhanceResult {
+  cv::Mat image;  // CV_8UC1, same size as the input
+  BrightnessClass brightness = BrightnessClass::kNormal;
+  double mu = 0.0;  // eq. (9)
+  double t = 0.0;   // eq. (10)
+  double ms = 0.0;  // wall time spent in enhance()
+};
+
+/// Returns a message naming what is wrong with the config, or "" when it is usable.
+std::string validate(const EnhanceParams& cfg);
+
+/// eqs. (3)-(7): the 256-entry gamma-correction LUT of a histogram (counts per intensity level).
+/// lut[i] = round(255 * (i / 255)^gamma(i)), gamma(i) = max(tau, 1 - C_w(i)).
+std::array<uint8_t, 256> agcwdLut(const std::array<double, 256>& histogram, double lambda, double tau);
+
+/// Histogram of a CV_8UC1 image as doubles (eq. 3).
+std::array<double, 256> histogram256(const cv::Mat& gray);
+
+/// eqs. (9)-(10).
+BrightnessClass classifyBrightness(double mu, const EnhanceParams& cfg, double* t);
+
+/// Stateless apart from a CLAHE object reused between frames; one instance per thread.
+class Enhancer {
+ public:
+  /// `gray` must be a non-empty CV_8UC1 image; throws std::invalid_argument otherwise, or when the
+  /// config does not validate. The result never aliases the input.
+  EnhanceResult enhance(const cv::Mat& gray, const EnhanceParams& cfg);
+
+ private:
+  cv::Mat blurred_, gamma_;
+  cv::Ptr<cv::CLAHE> clahe_;
+  double clahe_clip_ = -1.0;
+  int clahe_tiles_ = -1;
+};
+
+}  // namespace iraf_vo

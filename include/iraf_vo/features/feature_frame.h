@@ -1,0 +1,33 @@
+// The output of the feature stage for one image: what the tracker consumes and what the
+// FeatureFrame message carries. ROS-free.
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <cstdint>
+#include <vector>
+
+namespace iraf_vo {
+
+struct FeatureStats {
+  double global_threshold = 0.0;     // F_t^g of level 0 (eq. 15)
+  double cell_threshold_min = 0.0;   // over all cells of all levels (eq. 20)
+  double cell_threshold_median = 0.0;
+  double cell_threshold_max = 0.0;
+  int detected = 0;                  // keypoints after distribution, before culling
+  int culled = 0;                    // removed by the stability score (eqs. 21-23)
+  double ms_threshold = 0.0;         // adaptive threshold computation
+  double ms_detect = 0.0;            // pyramid + FAST + distribution + orientation + descriptors
+  double ms_cull = 0.0;
+};
+
+struct FeatureFrame {
+  double stamp = 0.0;                  // seconds
+  int width = 0, height = 0;
+  std::vector<cv::KeyPoint> keypoints; // pt in level-0 pixels; octave, angle, response set;
+                                       // class_id holds the FAST threshold used (rounded)
+  cv::Mat descriptors;                 // N x 32 CV_8U, row i <-> keypoints[i]
+  std::vector<float> stability;        // S of eq. 23 per kept keypoint (1 when culling is off)
+  FeatureStats stats;
+};
+
+}  // namespace iraf_vo

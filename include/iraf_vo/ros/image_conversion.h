@@ -1,0 +1,20 @@
+// ROS glue (not part of the ROS-free core): sensor_msgs/Image -> 8-bit grayscale cv::Mat.
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <sensor_msgs/Image.h>
+#include <string>
+
+namespace iraf_vo {
+
+/// Encodings the pipeline accepts; each becomes mono8 (mono16 is scaled by 1/256 as cv_bridge does).
+bool isSupportedEncoding(const std::string& encoding);
+/// Comma-separated list of isSupportedEncoding() encodings, for error messages.
+const char* supportedEncodings();
+
+/// Converts a message to a CV_8UC1 image (shares data with the message when it already is mono8).
+/// Returns false and fills `error` (naming the encoding / size problem) for anything unusable:
+/// unsupported encoding, zero width or height, data shorter than step * height.
+bool toMono8(const sensor_msgs::ImageConstPtr& msg, cv::Mat* gray, std::string* error);
+
+}  // namespace iraf_vo

@@ -1,0 +1,193 @@
+#include "iraf_vo/enhance/enhancer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include <opencv2/imgproc.hpp>
+
+namespace iraf_vo {
+
+const char* toString(BrightnessClass c) {
+  switch (c) {
+    case BrightnessClass::kDim: return "dim";
+    case BrightnessClass::kBright: return "bright";
+    default: return "normal";
+  }
+}
+
+const char* toString(EnhanceMethod m) {
+  switch (m) {
+    case EnhanceMethod::kNone: return "none";
+    case EnhanceMethod::kHe: return "he";
+    case EnhanceMethod::kClahe: return "clahe";
+    default: return "iraf";
+  }
+}
+
+bool parseEnhanceMethod(const std::string& s, EnhanceMethod* m) {
+  for (EnhanceMethod c : {EnhanceMethod::kNone, EnhanceMethod::kIraf, EnhanceMethod::kHe, EnhanceMethod::kClahe}) {
+    if (s == toString(c)) {
+      *m = c;
+      return true;
+    }
+  }
+  return false;
+}
+
+std::string validate(const EnhanceParams& cfg) {
+  std::ostringstream err;
+  if (cfg.gaussian_kernel_size < 1 || cfg.gaussian_kernel_size % 2 == 0)
+    err << "gaussian_kernel_size must be odd and >= 1 (got " << cfg.gaussian_kernel_size << "); ";
+  if (!(cfg.gaussian_sigma > 0.0)) err << "gaussian_sigma must be > 0; ";
+  if (!(cfg.mu_expected > 0.0)) err << "mu_expected must be > 0; ";
+  if (!(cfg.brightness_threshold >= 0.0)) err << "brightness_threshold must be >= 0; ";
+  for (double l : {cfg.dim_lambda, cfg.bright_lambda})
+    if (!(l > 0.0)) err << "lambda must be > 0; ";
+  for (double tau : {cfg.dim_tau, cfg.bright_tau})
+    if (!(tau > 0.0 && tau <= 1.0)) err << "tau must be in (0, 1]; ";
+  if (!std::isfinite(cfg.epsilon) || !std::isfinite(cfg.eta)) err << "epsilon and eta must be finite; ";
+  if (!(cfg.clahe_clip_limit > 0.0)) err << "clahe_clip_limit must be > 0; ";
+  if (cfg.clahe_tiles < 1) err << "clahe_tiles must be >= 1; ";
+  return err.str();
+}
+
+std::array<double, 256> histogram256(const cv::Mat& gray) {
+  CV_Assert(gray.type() == CV_8UC1);
+  std::array<int, 256> counts{};
+  for (int r = 0; r < gray.rows; ++r) {
+    const uint8_t* p = gray.ptr<uint8_t>(r);
+    for (int c = 0; c < gray.cols; ++c) ++counts[p[c]];
+  }
+  std::array<double, 256> h{};
+  for (int i = 0; i < 256; ++i) h[i] = counts[i];  // eq. (3): H(i)
+  return h;
+}
+
+std::array<uint8_t, 256> agcwdLut(const std::array<double, 256>& histogram, double lambda, double tau) {
+  double total = 0.0;
+  for (double v : histogram) total += v;
+  std::array<uint8_t, 256> lut{};
+  if (!(total > 0.0)) {
+    for (int i = 0; i < 256; ++i) lut[i] = static_cast<uint8_t>(i);
+    return lut;
+  }
+  // eq. (4): P(i) = H(i) / sum_j H(j)
+  std::array<double, 256> P{};
+  for (int i = 0; i < 256; ++i) P[i] = histogram[i] / total;
+  const double p_max = *std::max_element(P.begin(), P.end());
+  const double p_min = *std::min_element(P.begin(), P.end());
+  // eq. (5): P_w(i) = P_max * ((P(i) - P_min) / (P_max - P_min))^lambda
+  // (a flat histogram, P_max == P_min, gives P_w(i) = P_max for every i)
+  std::array<double, 256> Pw{};
+  double pw_sum = 0.0;
+  for (int i = 0; i < 256; ++i) {
+    const double range = p_max - p_min;
+    Pw[i] = range > 0.0 ? p_max * std::pow((P[i] - p_min) / range, lambda) : p_max;
+    pw_sum += Pw[i];
+  }
+  // eq. (6): C_w(i) = sum_{j<=i} P_w(j) / sum_k P_w(k);  eq. (7): gamma(i) = max(tau, 1 - C_w(i))
+  // eq. (8): I_gamma = 255 * (I / 255)^gamma(I)
+  double cdf = 0.0;
+  for (int i = 0; i < 256; ++i) {
+    cdf += Pw[i] / pw_sum;
+    const double gamma = std::max(tau, 1.0 - cdf);
+    const double v = 255.0 * std::pow(i / 255.0, gamma);
+    lut[i] = cv::saturate_cast<uint8_t>(v);
+  }
+  return lut;
+}
+
+BrightnessClass classifyBrightness(double mu, const EnhanceParams& cfg, double* t) {
+  // eq. (10): t = (mu - mu_expected) / mu_expected
+  const double tt = (mu - cfg.mu_expected) / cfg.mu_expected;
+  if (t) *t = tt;
+  if (std::abs(tt) <= cfg.brightness_threshold) return BrightnessClass::kNormal;
+  return tt < 0.0 ? BrightnessClass::kDim : BrightnessClass::kBright;
+}
+
+namespace {
+
+void applyLut(const cv::Mat& src, const std::array<uint8_t, 256>& lut, bool inverted, cv::Mat& dst) {
+  // For bright images the LUT was built on the inverted histogram: dst = 255 - lut[255 - src].
+  std::array<uint8_t, 256> full{};
+  for (int i = 0; i < 256; ++i) full[i] = inverted ? static_cast<uint8_t>(255 - lut[255 - i]) : lut[i];
+  cv::LUT(src, cv::Mat(1, 256, CV_8U, full.data()), dst);
+}
+
+}  // namespace
+
+EnhanceResult Enhancer::enhance(const cv::Mat& gray, const EnhanceParams& cfg) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (gray.empty()) throw std::invalid_argument("enhance: empty image");
+  if (gray.type() != CV_8UC1)
+    throw std::invalid_argument("enhance: expected an 8-bit single-channel image (CV_8UC1), got type " +
+                                std::to_string(gray.type()));
+  const std::string err = validate(cfg);
+  if (!err.empty()) throw std::invalid_argument("enhance: bad config: " + err);
+
+  EnhanceResult res;
+  // eq. (9): mu = mean intensity
+  res.mu = cv::mean(gray)[0];
+  res.brightness = classifyBrightness(res.mu, cfg, &res.t);
+
+  switch (cfg.method) {
+    case EnhanceMethod::kNone:
+      res.image = gray.clone();
+      break;
+    case EnhanceMethod::kHe:
+      cv::equalizeHist(gray, res.image);
+      break;
+    case EnhanceMethod::kClahe:
+      if (!clahe_ || clahe_clip_ != cfg.clahe_clip_limit || clahe_tiles_ != cfg.clahe_tiles) {
+        clahe_ = cv::createCLAHE(cfg.clahe_clip_limit, cv::Size(cfg.clahe_tiles, cfg.clahe_tiles));
+        clahe_clip_ = cfg.clahe_clip_limit;
+        clahe_tiles_ = cfg.clahe_tiles;
+      }
+      clahe_->apply(gray, res.image);
+      break;
+    case EnhanceMethod::kIraf: {
+      // eqs. (1)-(2)
+      const int k = cfg.gaussian_kernel_size;
+      if (k > 1)
+        cv::GaussianBlur(gray, blurred_, cv::Size(k, k), cfg.gaussian_sigma, cfg.gaussian_sigma, cv::BORDER_REFLECT_101);
+      else
+        gray.copyTo(blurred_);
+
+      // eqs. (3)-(8): only for images classified dim or bright; a normal image keeps I_gamma = I_gauss.
+      const cv::Mat* gamma_img = &blurred_;
+      if (res.brightness != BrightnessClass::kNormal) {
+        const bool bright = res.brightness == BrightnessClass::kBright;
+        std::array<double, 256> h = histogram256(blurred_);
+        if (bright) std::reverse(h.begin(), h.end());  // histogram of 255 - I_blurred
+        const auto lut = agcwdLut(h, bright ? cfg.bright_lambda : cfg.dim_lambda, bright ? cfg.bright_tau : cfg.dim_tau);
+        applyLut(blurred_, lut, bright, gamma_);
+        gamma_img = &gamma_;
+      }
+
+      // eqs. (11)-(12) in float, saturated once:
+      //   I' = B + epsilon * (G - B) + eta * (I - B) = eta*I + (1 - epsilon - eta)*B + epsilon*G
+      const float wi = static_cast<float>(cfg.eta);
+      const float wb = static_cast<float>(1.0 - cfg.epsilon - cfg.eta);
+      const float wg = static_cast<float>(cfg.epsilon);
+      res.image.create(gray.size(), CV_8UC1);
+      for (int r = 0; r < gray.rows; ++r) {
+        const uint8_t* pi = gray.ptr<uint8_t>(r);
+        const uint8_t* pb = blurred_.ptr<uint8_t>(r);
+        const uint8_t* pg = gamma_img->ptr<uint8_t>(r);
+        uint8_t* po = res.image.ptr<uint8_t>(r);
+        for (int c = 0; c < gray.cols; ++c) {
+          const float v = wi * pi[c] + wb * pb[c] + wg * pg[c];
+          po[c] = static_cast<uint8_t>(std::min(255.f, std::max(0.f, v + 0.5f)));
+        }
+      }
+      break;
+    }
+  }
+  res.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return res;
+}
+
+}  // namespace iraf_vo

@@ -1,0 +1,52 @@
+#include "iraf_vo/ros/image_conversion.h"
+
+#include <cv_bridge/cv_bridge.h>
+#include <sensor_msgs/image_encodings.h>
+
+namespace iraf_vo {
+
+namespace enc = sensor_msgs::image_encodings;
+
+bool isSupportedEncoding(const std::string& e) {
+  return e == enc::MONO8 || e == enc::MONO16 || e == enc::BGR8 || e == enc::RGB8 || e == enc::BGRA8;
+}
+
+const char* supportedEncodings() { return "mono8, mono16, bgr8, rgb8, bgra8"; }
+
+bool toMono8(const sensor_msgs::ImageConstPtr& msg, cv::Mat* gray, std::string* error) {
+  if (!msg) {
+    *error = "null image message";
+    return false;
+  }
+  if (!isSupportedEncoding(msg->encoding)) {
+    *error = "unsupported encoding '" + msg->encoding + "' (supported: " + supportedEncodings() + ")";
+    return false;
+  }
+  if (msg->width == 0 || msg->height == 0) {
+    *error = "empty image (" + std::to_string(msg->width) + "x" + std::to_string(msg->height) + ")";
+    return false;
+  }
+  const size_t min_step = static_cast<size_t>(msg->width) * enc::numChannels(msg->encoding) *
+                          (enc::bitDepth(msg->encoding) / 8);
+  if (msg->step < min_step || msg->data.size() < static_cast<size_t>(msg->step) * msg->height) {
+    *error = "inconsistent image: " + std::to_string(msg->width) + "x" + std::to_string(msg->height) +
+             " step " + std::to_string(msg->step) + " with " + std::to_string(msg->data.size()) + " data bytes";
+    return false;
+  }
+  try {
+    if (msg->encoding == enc::MONO8) {
+      *gray = cv_bridge::toCvShare(msg, enc::MONO8)->image;
+    } else {
+      *gray = cv_bridge::toCvCopy(msg, enc::MONO8)->image;
+    }
+  } catch (const cv_bridge::Exception& e) {
+    *error = std::string("cv_bridge: ") + e.what();
+    return false;
+  } catch (const cv::Exception& e) {
+    *error = std::string("OpenCV: ") + e.what();
+    return false;
+  }
+  return true;
+}
+
+}  // namespace iraf_vo
