@@ -152,7 +152,8 @@ EnhanceResult Enhancer::enhance(const cv::Mat& gray, const EnhanceParams& cfg) {
       // eqs. (1)-(2)
       const int k = cfg.gaussian_kernel_size;
       if (k > 1)
-        cv::GaussianBlur(gray, blurred_, cv::Size(k, k), cfg.gaussian_sigma, cfg.gaussian_sigma, cv::BORDER_REFLECT_101);
+        cv::GaussianBlur(gray, blurred_, cv::Size(k, k), cfg.gaussian_sigma, cfg.gaussian_sigma,
+                         cv::BORDER_REFLECT_101 | cv::BORDER_ISOLATED);  // an ROI is its own image
       else
         gray.copyTo(blurred_);
 

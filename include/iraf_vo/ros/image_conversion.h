@@ -7,7 +7,7 @@
 
 namespace iraf_vo {
 
-/// Encodings the pipeline accepts; each becomes mono8 (mono16 is scaled by 1/256 as cv_bridge does).
+/// Encodings the pipeline accepts; each becomes mono8 (mono16 through cv_bridge, i.e. scaled by 255/65535).
 bool isSupportedEncoding(const std::string& encoding);
 /// Comma-separated list of isSupportedEncoding() encodings, for error messages.
 const char* supportedEncodings();

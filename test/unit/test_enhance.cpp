@@ -1,0 +1,273 @@
+// Unit tests of the enhancement stage (paper eqs. 1-12).
+#include <gtest/gtest.h>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "common/test_data.h"
+#include "iraf_vo/enhance/enhancer.h"
+
+using namespace iraf_vo;
+using iraf_vo_test::entropyBits;
+
+namespace {
+
+// eqs. (4)-(8) written out directly, independent of agcwdLut's code path.
+double directGammaValue(const std::array<double, 256>& h, double lambda, double tau, int level) {
+  double n = 0;
+  for (double v : h) n += v;
+  double pmax = 0, pmin = 1;
+  for (double v : h) {
+    pmax = std::max(pmax, v / n);
+    pmin = std::min(pmin, v / n);
+  }
+  double sum_w = 0;
+  for (double v : h) sum_w += pmax * std::pow((v / n - pmin) / (pmax - pmin), lambda);
+  double cw = 0;
+  for (int j = 0; j <= level; ++j) cw += pmax * std::pow((h[j] / n - pmin) / (pmax - pmin), lambda) / sum_w;
+  const double gamma = std::max(tau, 1.0 - cw);
+  return 255.0 * std::pow(level / 255.0, gamma);
+}
+
+cv::Mat scaled(const cv::Mat& img, double gain) {
+  cv::Mat out;
+  img.convertTo(out, CV_8U, gain);
+  return out;
+}
+
+}  // namespace
+
+TEST(AgcwdLut, EqualsEquationSevenOnHandMadeHistogram) {
+  std::array<double, 256> h{};
+  // A dark, bumpy histogram with empty bins.
+  for (int i = 0; i < 256; ++i) h[i] = (i < 90 ? 400.0 - 3.0 * i : 0.0) + (i % 7 == 0 ? 25.0 : 0.0);
+  h[200] = 13.0;
+  for (double lambda : {0.25, 0.75, 1.0}) {
+    for (double tau : {0.3, 0.5}) {
+      const auto lut = agcwdLut(h, lambda, tau);
+      for (int i = 0; i < 256; ++i) {
+        const double expected = directGammaValue(h, lambda, tau, i);
+        ASSERT_NEAR(lut[i], expected, 0.5 + 1e-9) << "level " << i << " lambda " << lambda << " tau " << tau;
+      }
+    }
+  }
+}
+
+TEST(AgcwdLut, IsMonotonicAndBrightensDarkLevels) {
+  std::array<double, 256> h{};
+  for (int i = 0; i < 64; ++i) h[i] = 100.0;
+  const auto lut = agcwdLut(h, 0.75, 0.5);
+  EXPECT_EQ(lut[0], 0);
+  EXPECT_EQ(lut[255], 255);
+  for (int i = 1; i < 256; ++i) EXPECT_GE(lut[i], lut[i - 1]) << i;
+  EXPECT_GT(lut[32], 32 + 20);  // gamma < 1 on the occupied dark levels
+}
+
+TEST(AgcwdLut, DegenerateHistogramsAreHandled) {
+  std::array<double, 256> flat{};
+  flat.fill(5.0);  // P_max == P_min
+  const auto a = agcwdLut(flat, 0.75, 0.5);
+  std::array<double, 256> empty{};
+  const auto b = agcwdLut(empty, 0.75, 0.5);
+  for (int i = 0; i < 256; ++i) EXPECT_EQ(b[i], i);  // identity for an empty histogram
+  EXPECT_EQ(a[255], 255);
+}
+
+TEST(Classification, FollowsEquationTen) {
+  EnhanceParams p;
+  p.mu_expected = 100.0;
+  p.brightness_threshold = 0.3;
+  double t = 0;
+  EXPECT_EQ(classifyBrightness(60.0, p, &t), BrightnessClass::kDim);
+  EXPECT_NEAR(t, -0.4, 1e-12);
+  EXPECT_EQ(classifyBrightness(125.0, p, &t), BrightnessClass::kNormal);
+  EXPECT_NEAR(t, 0.25, 1e-12);
+  EXPECT_EQ(classifyBrightness(140.0, p, &t), BrightnessClass::kBright);
+  EXPECT_NEAR(t, 0.4, 1e-12);
+}
+
+TEST(Enhancer, NormalImageOnlyGetsGaussianAndSharpening) {
+  const cv::Mat img = iraf_vo_test::texturedImage();
+  EnhanceParams p;
+  p.mu_expected = cv::mean(img)[0];  // exactly "normal"
+  Enhancer e;
+  const EnhanceResult r = e.enhance(img, p);
+  EXPECT_EQ(r.brightness, BrightnessClass::kNormal);
+  // Expected: I' = B + eta * (I - B) with B the same Gaussian (epsilon term vanishes: I_gamma = I_gauss).
+  cv::Mat B;
+  cv::GaussianBlur(img, B, cv::Size(p.gaussian_kernel_size, p.gaussian_kernel_size), p.gaussian_sigma,
+                   p.gaussian_sigma, cv::BORDER_REFLECT_101);
+  cv::Mat I32, B32, expected;
+  img.convertTo(I32, CV_32F);
+  B.convertTo(B32, CV_32F);
+  cv::Mat e32 = B32 + p.eta * (I32 - B32);
+  e32.convertTo(expected, CV_8U);  // saturating, rounding
+  cv::Mat diff;
+  cv::absdiff(expected, r.image, diff);
+  double maxdiff;
+  cv::minMaxLoc(diff, nullptr, &maxdiff);
+  EXPECT_LE(maxdiff, 1.0);
+  EXPECT_GT(cv::norm(r.image, img, cv::NORM_L1), 0.0);  // sharpening did change it
+}
+
+TEST(Enhancer, SharpeningIsNotClippedBeforeCombination) {
+  // A dark step edge: the negative side of the unsharp mask must survive (signed arithmetic).
+  cv::Mat img(40, 40, CV_8U, cv::Scalar(100));
+  img(cv::Rect(20, 0, 20, 40)).setTo(160);
+  EnhanceParams p;
+  p.mu_expected = cv::mean(img)[0];
+  Enhancer e;
+  const cv::Mat out = e.enhance(img, p).image;
+  // Undershoot just left of the edge, overshoot just right of it.
+  EXPECT_LT(out.at<uint8_t>(20, 19), 100);
+  EXPECT_GT(out.at<uint8_t>(20, 20), 160);
+  // Far from the edge: unchanged.
+  EXPECT_EQ(out.at<uint8_t>(20, 5), 100);
+  EXPECT_EQ(out.at<uint8_t>(20, 35), 160);
+}
+
+TEST(Enhancer, DarkSyntheticImageComesOutBrighterWithHigherEntropy) {
+  const cv::Mat dark = scaled(iraf_vo_test::texturedImage(), 0.2);
+  EnhanceParams p;
+  Enhancer e;
+  const EnhanceResult r = e.enhance(dark, p);
+  EXPECT_EQ(r.brightness, BrightnessClass::kDim);
+  EXPECT_LT(r.t, -p.brightness_threshold);
+  EXPECT_GT(cv::mean(r.image)[0], cv::mean(dark)[0] + 20.0);
+  EXPECT_GT(entropyBits(r.image), entropyBits(dark));
+}
+
+TEST(Enhancer, DarkRealEurocFrameComesOutBrighterWithHigherEntropy) {
+  const cv::Mat frame = iraf_vo_test::eurocFrame(0);
+  if (frame.empty()) GTEST_SKIP() << "shared EuRoC frames not found under " << IRAF_VO_SHARED_DIR;
+  const cv::Mat dark = scaled(frame, 0.2);
+  EnhanceParams p;  // generic mu_expected = 112
+  Enhancer e;
+  const EnhanceResult r = e.enhance(dark, p);
+  EXPECT_EQ(r.brightness, BrightnessClass::kDim);
+  EXPECT_GT(cv::mean(r.image)[0], 1.5 * cv::mean(dark)[0]);
+  EXPECT_GT(entropyBits(r.image), entropyBits(dark));
+}
+
+TEST(Enhancer, RealLowLightStillsComeOutBrighterWithHigherEntropy) {
+  const std::string dir = iraf_vo_test::sharedData("lowlight_stills/LIME");
+  if (dir.empty()) GTEST_SKIP() << "shared low-light stills not found under " << IRAF_VO_SHARED_DIR;
+  int checked = 0;
+  for (const char* name : {"1.bmp", "3.bmp", "7.bmp"}) {
+    const cv::Mat img = cv::imread(dir + "/" + name, cv::IMREAD_GRAYSCALE);
+    ASSERT_FALSE(img.empty()) << name;
+    Enhancer e;
+    const EnhanceResult r = e.enhance(img, EnhanceParams());
+    if (r.brightness != BrightnessClass::kDim) continue;
+    ++checked;
+    EXPECT_GT(cv::mean(r.image)[0], cv::mean(img)[0]) << name;
+    EXPECT_GT(entropyBits(r.image), entropyBits(img)) << name;
+  }
+  EXPECT_GE(checked, 2) << "expected the LIME stills to be classified dim";
+}
+
+TEST(Enhancer, OverBrightImageComesOutDarker) {
+  cv::Mat src = iraf_vo_test::eurocFrame(0);
+  if (src.empty()) src = iraf_vo_test::texturedImage();
+  const cv::Mat bright = scaled(src, 3.0);  // saturates: over-exposed
+  EnhanceParams p;
+  Enhancer e;
+  const EnhanceResult r = e.enhance(bright, p);
+  EXPECT_EQ(r.brightness, BrightnessClass::kBright);
+  EXPECT_GT(r.t, p.brightness_threshold);
+  EXPECT_LT(cv::mean(r.image)[0], cv::mean(bright)[0] - 5.0);
+}
+
+TEST(Enhancer, KeepsSizeAndTypeAndSurvivesTinyAndFlatInputs) {
+  Enhancer e;
+  EnhanceParams p;
+  for (const cv::Mat& img : {cv::Mat(1, 1, CV_8U, cv::Scalar(7)), cv::Mat(480, 752, CV_8U, cv::Scalar(0)),
+                             cv::Mat(480, 752, CV_8U, cv::Scalar(255)), cv::Mat(3, 200, CV_8U, cv::Scalar(90))}) {
+    for (EnhanceMethod m : {EnhanceMethod::kIraf, EnhanceMethod::kHe, EnhanceMethod::kClahe, EnhanceMethod::kNone}) {
+      p.method = m;
+      const EnhanceResult r = e.enhance(img, p);
+      EXPECT_EQ(r.image.size(), img.size()) << toString(m);
+      EXPECT_EQ(r.image.type(), CV_8UC1) << toString(m);
+      EXPECT_NE(r.image.data, img.data) << "result must not alias the input";
+    }
+  }
+  // A non-continuous ROI is processed like its copy.
+  const cv::Mat big = iraf_vo_test::texturedImage();
+  const cv::Mat roi = big(cv::Rect(10, 10, 100, 80));
+  p.method = EnhanceMethod::kIraf;
+  EXPECT_EQ(cv::norm(e.enhance(roi, p).image, e.enhance(roi.clone(), p).image, cv::NORM_INF), 0.0);
+}
+
+TEST(Enhancer, RejectsBadInputAndBadParams) {
+  Enhancer e;
+  EXPECT_THROW(e.enhance(cv::Mat(), EnhanceParams()), std::invalid_argument);
+  EXPECT_THROW(e.enhance(cv::Mat(10, 10, CV_8UC3), EnhanceParams()), std::invalid_argument);
+  EXPECT_THROW(e.enhance(cv::Mat(10, 10, CV_16U), EnhanceParams()), std::invalid_argument);
+  EnhanceParams bad;
+  bad.gaussian_kernel_size = 4;
+  EXPECT_FALSE(validate(bad).empty());
+  EXPECT_THROW(e.enhance(cv::Mat(10, 10, CV_8U, cv::Scalar(1)), bad), std::invalid_argument);
+  bad = EnhanceParams();
+  bad.mu_expected = 0.0;
+  EXPECT_NE(validate(bad).find("mu_expected"), std::string::npos);
+  EXPECT_TRUE(validate(EnhanceParams()).empty());
+}
+
+TEST(Enhancer, ComparisonMethodsMatchOpenCv) {
+  const cv::Mat img = scaled(iraf_vo_test::texturedImage(), 0.4);
+  Enhancer e;
+  EnhanceParams p;
+  p.method = EnhanceMethod::kHe;
+  cv::Mat he;
+  cv::equalizeHist(img, he);
+  EXPECT_EQ(cv::norm(e.enhance(img, p).image, he, cv::NORM_INF), 0.0);
+  p.method = EnhanceMethod::kClahe;
+  cv::Mat cl;
+  cv::createCLAHE(3.0, cv::Size(8, 8))->apply(img, cl);
+  EXPECT_EQ(cv::norm(e.enhance(img, p).image, cl, cv::NORM_INF), 0.0);
+  p.method = EnhanceMethod::kNone;
+  EXPECT_EQ(cv::norm(e.enhance(img, p).image, img, cv::NORM_INF), 0.0);
+  EnhanceMethod m;
+  EXPECT_TRUE(parseEnhanceMethod("clahe", &m));
+  EXPECT_EQ(m, EnhanceMethod::kClahe);
+  EXPECT_FALSE(parseEnhanceMethod("retinex", &m));
+}
+
+#include <yaml-cpp/yaml.h>
+
+#include "iraf_vo/enhance/enhance_params_io.h"
+
+TEST(EnhanceParamsIo, SetsEveryFieldByNameAndRejectsUnknownOrBadValues) {
+  EnhanceParams p;
+  std::string err;
+  EXPECT_TRUE(setEnhanceParam(&p, "mu_expected", "50", &err)) << err;
+  EXPECT_DOUBLE_EQ(p.mu_expected, 50.0);
+  EXPECT_TRUE(setEnhanceParam(&p, "method", "clahe", &err)) << err;
+  EXPECT_EQ(p.method, EnhanceMethod::kClahe);
+  EXPECT_TRUE(setEnhanceParam(&p, "gaussian_kernel_size", "7", &err)) << err;
+  EXPECT_EQ(p.gaussian_kernel_size, 7);
+  EXPECT_FALSE(setEnhanceParam(&p, "gaussian_kernel_size", "7.5", &err));
+  EXPECT_FALSE(setEnhanceParam(&p, "eta", "nan", &err));
+  EXPECT_FALSE(setEnhanceParam(&p, "muexpected", "50", &err));
+  EXPECT_NE(err.find("muexpected"), std::string::npos);
+  // Every advertised name is settable.
+  for (const auto& n : enhanceParamNames()) {
+    EnhanceParams q;
+    EXPECT_TRUE(setEnhanceParam(&q, n, n == "method" ? "he" : "3", &err)) << n << ": " << err;
+  }
+}
+
+TEST(EnhanceParamsIo, LoadsYamlMapAndValidates) {
+  EnhanceParams p;
+  std::string err;
+  EXPECT_TRUE(loadEnhanceParams(YAML::Load("{mu_expected: 80, eta: 0.5, method: iraf}"), &p, &err)) << err;
+  EXPECT_DOUBLE_EQ(p.mu_expected, 80.0);
+  EXPECT_DOUBLE_EQ(p.eta, 0.5);
+  EXPECT_FALSE(loadEnhanceParams(YAML::Load("{gaussian_kernel_size: 4}"), &p, &err));
+  EXPECT_NE(err.find("gaussian_kernel_size"), std::string::npos);
+  EXPECT_FALSE(loadEnhanceParams(YAML::Load("{typo_key: 1}"), &p, &err));
+  EXPECT_FALSE(loadEnhanceParams(YAML::Load("[1, 2]"), &p, &err));
+}
