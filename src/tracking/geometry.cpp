@@ -157,6 +157,30 @@ class AbortCallback final : public ceres::IterationCallback {
   const std::atomic<bool>* flag_;
 };
 
+// Pinhole without distortion on normalized coordinates scaled by `focal` (principal point 0): lets the two-view
+// refinement reuse bundleAdjust() on bearings with pixel-like residuals.
+class NormalizedPinhole final : public CameraModel {
+ public:
+  explicit NormalizedPinhole(double f) : f_(f) {}
+  std::string modelName() const override { return "normalized"; }
+  bool project(const Eigen::Vector3d& p, Eigen::Vector2d* uv, Eigen::Matrix<double, 2, 3>* J) const override {
+    if (p.z() <= 1e-9) return false;
+    const double iz = 1.0 / p.z();
+    *uv = Eigen::Vector2d(f_ * p.x() * iz, f_ * p.y() * iz);
+    if (J) *J << f_ * iz, 0, -f_ * p.x() * iz * iz, 0, f_ * iz, -f_ * p.y() * iz * iz;
+    return true;
+  }
+  bool unproject(const Eigen::Vector2d& uv, Eigen::Vector3d* b) const override {
+    *b = Eigen::Vector3d(uv.x() / f_, uv.y() / f_, 1.0).normalized();
+    return true;
+  }
+  std::vector<double> parameters() const override { return {f_, f_, 0, 0}; }
+  double focal() const override { return f_; }
+
+ private:
+  double f_;
+};
+
 Eigen::Vector2d normalized(const Eigen::Vector3d& b) { return Eigen::Vector2d(b.x() / b.z(), b.y() / b.z()); }
 
 // ORB-SLAM style scores (pixel units through `focal`): sum over both directions of (gate - e^2/sigma^2).
@@ -384,13 +408,56 @@ TwoViewResult initializeTwoView(const std::vector<Eigen::Vector3d>& b1_in, const
     res.reason = res.model + ": parallax too low (" + std::to_string(best.parallax_deg) + " deg)";
     return res;
   }
-  res.ok = true;
-  res.R_21 = best.R;
-  res.t_21 = best.t;
+  // Gold-standard refinement: two-view BA on the triangulated inliers (frame 1 fixed; the scale gauge is fixed
+  // afterwards by normalizing |t| = 1).
+  NormalizedPinhole ncam(focal);
+  std::vector<BAKeyframe> kf(2);
+  kf[0].fixed = true;
+  kf[1].T_c_w.linear() = best.R;
+  kf[1].T_c_w.translation() = best.t;
+  std::vector<BAPoint> bp;
+  std::vector<BAObservation> bo;
+  std::vector<int> which;
   for (size_t k = 0; k < idx.size(); ++k) {
     if (!best.ok[k]) continue;
-    res.points[idx[k]] = best.points[k];
-    res.triangulated[idx[k]] = 1;
+    const int pi = static_cast<int>(bp.size());
+    bp.push_back({best.points[k]});
+    bo.push_back({0, pi, focal * p1[k], params.threshold_px});
+    bo.push_back({1, pi, focal * p2[k], params.threshold_px});
+    which.push_back(static_cast<int>(k));
+  }
+  BAOptions bao;
+  bao.max_num_iterations = 15;
+  bao.max_solver_time_in_seconds = 0.2;
+  bao.huber_delta = 1.0;
+  BASummary bs;
+  Eigen::Matrix3d R = best.R;
+  Eigen::Vector3d t = best.t;
+  double scale = 1.0;
+  if (bundleAdjust(ncam, &kf, &bp, bo, bao, &bs) && kf[1].T_c_w.translation().norm() > 1e-9) {
+    R = kf[1].T_c_w.rotation();
+    scale = 1.0 / kf[1].T_c_w.translation().norm();
+    t = kf[1].T_c_w.translation() * scale;
+  } else {
+    bs.outlier.assign(bo.size(), 0);
+    for (size_t i = 0; i < bp.size(); ++i) bp[i].p_w = best.points[which[i]];
+  }
+  res.ok = true;
+  res.R_21 = R;
+  res.t_21 = t;
+  int n = 0;
+  for (size_t i = 0; i < which.size(); ++i) {
+    if (bs.outlier[2 * i] || bs.outlier[2 * i + 1]) continue;
+    const Eigen::Vector3d X = bp[i].p_w * scale;
+    if (X.z() <= 0 || (R * X + t).z() <= 0) continue;
+    res.points[idx[which[i]]] = X;
+    res.triangulated[idx[which[i]]] = 1;
+    ++n;
+  }
+  res.num_triangulated = n;
+  if (n < params.min_triangulated) {
+    res.ok = false;
+    res.reason = res.model + ": too few points after refinement (" + std::to_string(n) + ")";
   }
   return res;
 }

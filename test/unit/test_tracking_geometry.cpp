@@ -21,7 +21,7 @@ void twoViews(const CameraModel& cam, const Eigen::Isometry3d& T2_c_w, bool plan
   std::uniform_real_distribution<double> ux(-3, 3), uy(-2, 2), uz(3, 7);
   std::normal_distribution<double> nd(0.0, 0.5);
   while (b1->size() < 300) {
-    Eigen::Vector3d X(ux(*rng), uy(*rng), planar ? 5.0 + 0.1 * ux(*rng) * 0 : uz(*rng));
+    Eigen::Vector3d X(ux(*rng), uy(*rng), planar ? 5.0 : uz(*rng));
     Eigen::Vector2d u1, u2;
     const Eigen::Vector3d X2 = T2_c_w * X;
     if (!cam.project(X, &u1) || !cam.project(X2, &u2) || X2.z() < 0.5) continue;
@@ -48,7 +48,9 @@ void checkInit(bool fisheye, bool planar) {
   TwoViewParams p;
   const TwoViewResult r = initializeTwoView(b1, b2, cam->focal(), p);
   ASSERT_TRUE(r.ok) << r.reason;
-  if (planar) EXPECT_EQ(r.model, "homography");
+  if (planar) {
+    EXPECT_EQ(r.model, "homography");
+  }
   EXPECT_LT(rotationErrorDeg(r.R_21, T2.rotation()), 0.5) << r.model;
   const double tdir = std::acos(std::clamp(r.t_21.normalized().dot(T2.translation().normalized()), -1.0, 1.0));
   EXPECT_LT(tdir * 180.0 / M_PI, 2.0) << r.model;
@@ -199,7 +201,7 @@ TEST(TrackingGeometry, BundleAdjustmentConverges) {
     }
     for (int k = 2; k < 6; ++k) {
       EXPECT_LT(rotationErrorDeg(kfs[k].T_c_w.rotation(), truth_kfs[k].T_c_w.rotation()), 0.2);
-      EXPECT_LT((kfs[k].T_c_w.translation() - truth_kfs[k].T_c_w.translation()).norm(), 0.02);
+      EXPECT_LT((kfs[k].T_c_w.translation() - truth_kfs[k].T_c_w.translation()).norm(), 0.04) << cam->modelName();
     }
   }
 }
