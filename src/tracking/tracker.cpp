@@ -557,6 +557,7 @@ struct Tracker::Impl {
     PoseOptimizationOptions po;
     po.rounds = p.pose_rounds;
     po.max_num_iterations = p.pose_max_iterations;
+    po.use_ceres = p.pose_use_ceres;
     std::vector<char> inl(P.size(), 1);
     Eigen::Isometry3d Tn = *T;
     const int n = optimizePose(*cam, P, uv, sg, po, &Tn, &inl);
@@ -679,6 +680,7 @@ struct Tracker::Impl {
     if (last_kf_id >= 0) {
       // velocity from the (possibly BA-updated) last pose
       velocity = T * T_last.inverse();
+      velocity.linear() = Eigen::Quaterniond(velocity.rotation()).normalized().toRotationMatrix();
       have_velocity = true;
     }
     return true;

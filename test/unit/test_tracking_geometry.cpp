@@ -132,15 +132,20 @@ TEST(TrackingGeometry, PnPWithOutliers) {
       cam->project(b, &u);
       uv.push_back(u);
     }
+   for (bool ceres_solver : {false, true}) {
+    SCOPED_TRACE(ceres_solver ? "ceres" : "eigen LM");
     Eigen::Isometry3d T0 = makePose({1, 1, -1}, {0.05, 0.05, -0.05}) * T_c_w;
     std::vector<char> inl2(P.size(), 1);
-    const int n2 = optimizePose(*cam, P, uv, sg, PoseOptimizationOptions(), &T0, &inl2);
+    PoseOptimizationOptions po;
+    po.use_ceres = ceres_solver;
+    const int n2 = optimizePose(*cam, P, uv, sg, po, &T0, &inl2);
     EXPECT_GE(n2, 120);
     EXPECT_LT(rotationErrorDeg(T0.rotation(), T_c_w.rotation()), 0.3);
     EXPECT_LT((T0.translation() - T_c_w.translation()).norm(), 0.03);
     int wrong2 = 0;
     for (size_t i = 0; i < P.size(); ++i) wrong2 += inl2[i] && is_outlier[i];
     EXPECT_LE(wrong2, 3);
+   }
   }
 }
 

@@ -90,6 +90,7 @@ struct TrackerParams {
   int pnp_iterations = 200;
   int pose_rounds = 3;
   int pose_max_iterations = 10;
+  bool pose_use_ceres = false;          // pose-only refinement with ceres::Solve instead of the 6x6 LM
   int min_tracking_inliers = 25;
   // ---- keyframes ----
   double keyframe_tracked_ratio = 0.9;
