@@ -172,14 +172,15 @@ bool readTrajectory(const std::string& path_in, Trajectory* traj, std::string* e
                     std::vector<std::string>* warnings) {
   std::string path = path_in;
   if (isDir(path)) {
-    for (const char* rel : {"/mav0/state_groundtruth_estimate0/data.csv", "/state_groundtruth_estimate0/data.csv"}) {
+    for (const char* rel : {"/mav0/state_groundtruth_estimate0/data.csv", "/state_groundtruth_estimate0/data.csv",
+                            "/mav0/mocap0/data.csv", "/mocap0/data.csv"}) {
       if (isFile(path + rel)) {
         path += rel;
         break;
       }
     }
     if (isDir(path)) {
-      if (error) *error = path + ": directory holds no state_groundtruth_estimate0/data.csv";
+      if (error) *error = path + ": directory holds no [mav0/]state_groundtruth_estimate0/data.csv or [mav0/]mocap0/data.csv";
       return false;
     }
   }

@@ -265,3 +265,30 @@ TEST(Eval, SharedEurocGroundTruthAgainstPerturbedCopy) {
   EXPECT_LT(r.rpe_rot.rmse, 1e-6);
   EXPECT_GT(r.gt_length, 5.0);  // PROVENANCE: 5.4 m path in the first 15 s
 }
+
+TEST(EvalTool, CommandLine) {
+  const std::string tool = std::string(IRAF_VO_BIN_DIR) + "/iraf_vo_eval";
+  struct stat st;
+  if (::stat(tool.c_str(), &st) != 0) GTEST_SKIP() << "tool not built: " << tool;
+  const std::string dir = (testing::TempDir().empty() ? std::string("/tmp/") : testing::TempDir());
+  const Trajectory gt = makeGt(100);
+  Sim3 S;
+  S.s = 0.5;
+  S.t = Eigen::Vector3d(1, 0, 0);
+  Trajectory est;
+  for (size_t i = 0; i < gt.size(); ++i) est.push_back(gt.stamps[i] + 0.001, S.apply(gt.poses[i]));
+  std::string err;
+  ASSERT_TRUE(writeTumTrajectory(dir + "iraf_vo_cli_gt.txt", gt, &err)) << err;
+  ASSERT_TRUE(writeTumTrajectory(dir + "iraf_vo_cli_est.txt", est, &err)) << err;
+  const std::string base = tool + " " + dir + "iraf_vo_cli_gt.txt " + dir + "iraf_vo_cli_est.txt";
+  ASSERT_EQ(std::system((base + " --json " + dir + "iraf_vo_cli.json --csv " + dir + "iraf_vo_cli.csv > /dev/null").c_str()), 0);
+  std::ifstream j(dir + "iraf_vo_cli.json");
+  const std::string json((std::istreambuf_iterator<char>(j)), std::istreambuf_iterator<char>());
+  EXPECT_NE(json.find("\"n_matched\": 100"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"scale\": 2"), std::string::npos) << json;  // 1 / 0.5
+  // Bad input -> non-zero exit with a message.
+  EXPECT_NE(std::system((base + " --align affine 2>/dev/null").c_str()), 0);
+  EXPECT_NE(std::system((base + " --max-dt abc 2>/dev/null").c_str()), 0);
+  EXPECT_NE(std::system((tool + " " + dir + "iraf_vo_cli_gt.txt /nonexistent.txt 2>/dev/null").c_str()), 0);
+  EXPECT_NE(std::system((tool + " 2>/dev/null").c_str()), 0);
+}

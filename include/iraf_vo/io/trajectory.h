@@ -42,7 +42,8 @@ bool readEurocGroundTruth(const std::string& path, Trajectory* traj, std::string
                           std::vector<std::string>* warnings = nullptr);
 
 /// Auto-detects the format from the first data line (commas -> EuRoC csv, otherwise TUM).
-/// A directory is accepted too: DIR[/mav0]/state_groundtruth_estimate0/data.csv.
+/// A directory is accepted too: DIR[/mav0]/state_groundtruth_estimate0/data.csv (EuRoC) or DIR[/mav0]/mocap0/data.csv
+/// (TUM-VI, same csv layout).
 bool readTrajectory(const std::string& path, Trajectory* traj, std::string* error,
                     const Eigen::Matrix4d& T_BS = Eigen::Matrix4d::Identity(),
                     std::vector<std::string>* warnings = nullptr);
