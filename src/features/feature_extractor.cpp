@@ -25,7 +25,9 @@ struct QNode {
   float x0, y0, x1, y1;
   int begin, end;  // range of the index array
   int count() const { return end - begin; }
-  bool operator<(const QNode& o) const { return count() < o.count(); }  // max-heap on the keypoint count
+  float area() const { return (x1 - x0) * (y1 - y0); }
+  // max-heap: largest node first (= ORB-SLAM's breadth-first expansion), then the most populated
+  bool operator<(const QNode& o) const { return area() < o.area() || (area() == o.area() && count() < o.count()); }
 };
 
 }  // namespace
@@ -72,8 +74,8 @@ std::vector<cv::KeyPoint> distributeQuadTree(const std::vector<cv::KeyPoint>& ca
       b = e;
     }
   }
-  // Split the most populated node until there are n_desired nodes (ORB-SLAM expands nodes with more
-  // keypoints first when it gets close to the target; splitting strictly by count is the same idea).
+  // Split the largest node holding > 1 keypoint until there are n_desired nodes: the same order as
+  // ORB-SLAM's level-by-level expansion, one node at a time so the target is met exactly (+ <= 3).
   while (!open.empty() && static_cast<int>(open.size() + done.size()) < n_desired) {
     const QNode n = open.top();
     open.pop();
