@@ -364,7 +364,8 @@ FeatureFrame FeatureExtractor::extract(const cv::Mat& gray8, double stamp, const
       frame.stability.push_back(cr.stability[i]);
     }
   }
-  ms_detect += msSince(t_desc);
+  st.ms_describe = msSince(t_desc);
+  ms_detect += st.ms_describe;
 
   st.ms_threshold = ms_threshold;
   st.ms_detect = ms_detect;
