@@ -87,6 +87,10 @@ int otsuThreshold(const Histogram256& h) {
   double w0 = 0.0, s0 = 0.0, best_num2 = -1.0, best_den = 1.0;
   int t_o = lo, t_last = lo;
   for (int t = lo; t < hi; ++t) {
+    if (h[t] == 0) {  // sigma_c^2(t) = sigma_c^2(t - 1): only a flat maximum can grow
+      if (t_last == t - 1) t_last = t;
+      continue;
+    }
     w0 += h[t];
     s0 += static_cast<double>(t) * h[t];
     const double num = sum_t * w0 - n * s0;

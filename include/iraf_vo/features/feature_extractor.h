@@ -48,7 +48,8 @@ class FeatureExtractor {
   std::vector<cv::Mat> pyramid_;
   cv::Mat level0_, dx_, dy_, mag_, desc_;
   std::vector<double> thresholds_, center_;
-  std::vector<int> otsu_;
+  std::vector<int> otsu_, cell_th_, cell_count_, sorted_th_;
+  std::vector<cv::KeyPoint> strip_kps_;
   cv::Ptr<cv::ORB> orb_;  // descriptor computation only (rotated BRIEF), one level at a time
   std::vector<int> umax_;
 };
