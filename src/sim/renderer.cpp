@@ -63,13 +63,38 @@ Renderer::Renderer(CameraModelPtr camera, std::shared_ptr<const Scene> scene, co
       if (centre(c, rn, &bv)) a = std::max(a, std::acos(std::min(1.0, b0.normalized().dot(bv.normalized()))));
       footprint_[static_cast<size_t>(r) * w_ + c] = static_cast<float>(a / ss_);
     }
+  // Tile cones for box culling.
+  tiles_x_ = (w_ + kTile - 1) / kTile, tiles_y_ = (h_ + kTile - 1) / kTile;
+  tile_axis_.assign(static_cast<size_t>(tiles_x_) * tiles_y_, Eigen::Vector3f::UnitZ());
+  tile_half_angle_.assign(tile_axis_.size(), static_cast<float>(M_PI));
+  for (int ty = 0; ty < tiles_y_; ++ty)
+    for (int tx = 0; tx < tiles_x_; ++tx) {
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      std::vector<Eigen::Vector3d> rays;
+      for (int r = ty * kTile; r < std::min(h_, (ty + 1) * kTile); ++r)
+        for (int c = tx * kTile; c < std::min(w_, (tx + 1) * kTile); ++c)
+          for (int s = 0; s < ss_ * ss_; ++s) {
+            const size_t k = (static_cast<size_t>(r) * w_ + c) * ss_ * ss_ + s;
+            if (!valid_[k]) continue;
+            rays.emplace_back(bx_[k], by_[k], bz_[k]);
+            sum += rays.back();
+          }
+      const size_t t = static_cast<size_t>(ty) * tiles_x_ + tx;
+      if (rays.empty() || sum.norm() < 1e-6) continue;  // keep the conservative half-angle pi
+      const Eigen::Vector3d axis = sum.normalized();
+      double max_angle = 0.0;
+      for (const auto& b : rays) max_angle = std::max(max_angle, std::acos(std::min(1.0, axis.dot(b))));
+      tile_axis_[t] = axis.cast<float>();
+      tile_half_angle_[t] = static_cast<float>(max_angle + 1e-4);
+    }
 }
 
 int64_t Renderer::frameStampNs(int frame) const {
   return params_.start_ns + static_cast<int64_t>(std::llround(frame * 1e9 / params_.rate_hz));
 }
 
-void Renderer::renderRows(const Eigen::Isometry3d& T_W_C, int r0, int r1, cv::Mat* radiance, cv::Mat* depth) const {
+void Renderer::renderTileRows(const Eigen::Isometry3d& T_W_C, int tr0, int tr1, cv::Mat* radiance,
+                              cv::Mat* depth) const {
   const Eigen::Matrix3f R = T_W_C.linear().cast<float>();
   const Eigen::Vector3f o = T_W_C.translation().cast<float>();
   const float scale = static_cast<float>(255.0 * params_.brightness);
@@ -77,32 +102,58 @@ void Renderer::renderRows(const Eigen::Isometry3d& T_W_C, int r0, int r1, cv::Ma
   const int nsub = ss_ * ss_;
   const float inv_nsub = 1.f / nsub;
   const Scene& scene = *scene_;
+  const std::vector<SceneBox>& boxes = scene.boxes();
+  // Bounding spheres of the boxes relative to the camera centre.
+  std::vector<Eigen::Vector3f> centre(boxes.size());
+  std::vector<float> dist(boxes.size()), radius(boxes.size());
+  for (size_t b = 0; b < boxes.size(); ++b) {
+    centre[b] = 0.5f * (boxes[b].lo + boxes[b].hi) - o;
+    dist[b] = centre[b].norm();
+    radius[b] = 0.5f * (boxes[b].hi - boxes[b].lo).norm() + 1e-3f;
+  }
+  std::vector<int> cand(boxes.size());
   SceneHit hit;
-  for (int r = r0; r < r1; ++r) {
-    float* out = radiance->ptr<float>(r);
-    float* dep = depth ? depth->ptr<float>(r) : nullptr;
-    for (int c = 0; c < w_; ++c) {
-      const size_t pix = static_cast<size_t>(r) * w_ + c;
-      const float fp_ang = footprint_[pix] * tpm;
-      float acc = 0.f;
-      for (int s = 0; s < nsub; ++s) {
-        const size_t k = pix * nsub + s;
-        if (!valid_[k]) continue;
-        const Eigen::Vector3f b(bx_[k], by_[k], bz_[k]);
-        const Eigen::Vector3f d = R * b;
-        if (!scene.castRay(o, d, &hit)) continue;
-        // Footprint on the surface in texels: t * pixel angle / sqrt(cos incidence) (a compromise between
-        // blur and aliasing at grazing angles).
-        const float cosi = std::max(0.05f, std::abs(hit.normal.dot(d)));
-        acc += scene.shade(hit, hit.t * fp_ang / std::sqrt(cosi));
-        if (dep && s == 0 && nsub == 1) dep[c] = hit.t * b.z();
+  for (int ty = tr0; ty < tr1; ++ty) {
+    for (int tx = 0; tx < tiles_x_; ++tx) {
+      const int tile = ty * tiles_x_ + tx;
+      const Eigen::Vector3f axis = R * tile_axis_[tile];
+      int nc = 0;
+      for (size_t b = 0; b < boxes.size(); ++b) {
+        if (dist[b] <= radius[b]) {
+          cand[nc++] = static_cast<int>(b);
+          continue;
+        }
+        const float cosb = std::max(-1.f, std::min(1.f, centre[b].dot(axis) / dist[b]));
+        if (std::acos(cosb) <= tile_half_angle_[tile] + std::asin(radius[b] / dist[b])) cand[nc++] = static_cast<int>(b);
       }
-      out[c] = acc * inv_nsub * scale;
-      if (dep && nsub > 1) {
-        // z-depth of the pixel centre ray.
-        Eigen::Vector3d p;
-        double z = 0.0;
-        dep[c] = castPixel(T_W_C, Eigen::Vector2d(c, r), &p, &z) ? static_cast<float>(z) : 0.f;
+      const int r_end = std::min(h_, (ty + 1) * kTile), c_end = std::min(w_, (tx + 1) * kTile);
+      for (int r = ty * kTile; r < r_end; ++r) {
+        float* out = radiance->ptr<float>(r);
+        float* dep = depth ? depth->ptr<float>(r) : nullptr;
+        for (int c = tx * kTile; c < c_end; ++c) {
+          const size_t pix = static_cast<size_t>(r) * w_ + c;
+          const float fp_ang = footprint_[pix] * tpm;
+          float acc = 0.f;
+          for (int s = 0; s < nsub; ++s) {
+            const size_t k = pix * nsub + s;
+            if (!valid_[k]) continue;
+            const Eigen::Vector3f b(bx_[k], by_[k], bz_[k]);
+            const Eigen::Vector3f d = R * b;
+            if (!scene.castRay(o, d, &hit, cand.data(), nc)) continue;
+            // Footprint on the surface in texels: t * pixel angle / sqrt(cos incidence) (a compromise
+            // between blur and aliasing at grazing angles).
+            const float cosi = std::max(0.05f, std::abs(hit.normal.dot(d)));
+            acc += scene.shade(hit, hit.t * fp_ang / std::sqrt(cosi));
+            if (dep && s == 0 && nsub == 1) dep[c] = hit.t * b.z();
+          }
+          out[c] = acc * inv_nsub * scale;
+          if (dep && nsub > 1) {
+            // z-depth of the pixel centre ray.
+            Eigen::Vector3d p;
+            double z = 0.0;
+            dep[c] = castPixel(T_W_C, Eigen::Vector2d(c, r), &p, &z) ? static_cast<float>(z) : 0.f;
+          }
+        }
       }
     }
   }
@@ -115,14 +166,12 @@ void Renderer::render(const Eigen::Isometry3d& T_W_C, cv::Mat* radiance, cv::Mat
     depth->setTo(0.f);
   }
   if (params_.threads == 1) {
-    renderRows(T_W_C, 0, h_, radiance, depth);
+    renderTileRows(T_W_C, 0, tiles_y_, radiance, depth);
     return;
   }
-  const int stripes = std::max(1, h_ / 8);
-  cv::parallel_for_(cv::Range(0, stripes), [&](const cv::Range& range) {
-    const int r0 = range.start * h_ / stripes, r1 = range.end * h_ / stripes;
-    renderRows(T_W_C, r0, r1, radiance, depth);
-  }, stripes);
+  cv::parallel_for_(cv::Range(0, tiles_y_), [&](const cv::Range& range) {
+    renderTileRows(T_W_C, range.start, range.end, radiance, depth);
+  }, tiles_y_);
 }
 
 void Renderer::renderFrame(const TrajectoryParams& traj, int frame, cv::Mat* radiance, cv::Mat* depth) const {

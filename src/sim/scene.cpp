@@ -19,11 +19,6 @@ bool fileExists(const std::string& p) {
   return ::stat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode);
 }
 
-inline int fastFloor(float x) {
-  const int i = static_cast<int>(x);
-  return i - (x < static_cast<float>(i));
-}
-
 }  // namespace
 
 // ------------------------------------------------------------------------------------------------
@@ -40,33 +35,10 @@ SceneTexture::SceneTexture(const cv::Mat& albedo, float texels_per_m) : texels_p
     cv::pyrDown(levels_.back(), down);  // Gaussian 5x5 + decimation: the box-ish prefilter of a mipmap
     levels_.push_back(down);
   }
-}
-
-float SceneTexture::sampleLevel(float u_m, float v_m, int level) const {
-  level = std::max(0, std::min(level, static_cast<int>(levels_.size()) - 1));
-  const cv::Mat& m = levels_[level];
-  const float s = texels_per_m_ / static_cast<float>(1 << level);
-  const float x = u_m * s - 0.5f, y = v_m * s - 0.5f;
-  const int x0 = fastFloor(x), y0 = fastFloor(y);
-  const float fx = x - static_cast<float>(x0), fy = y - static_cast<float>(y0);
-  const int wm = m.cols - 1, hm = m.rows - 1;  // power of two: & wraps (also negative ints)
-  const int xa = x0 & wm, xb = (x0 + 1) & wm;
-  const uint8_t* r0 = m.ptr<uint8_t>(y0 & hm);
-  const uint8_t* r1 = m.ptr<uint8_t>((y0 + 1) & hm);
-  const float top = r0[xa] + fx * (static_cast<float>(r0[xb]) - r0[xa]);
-  const float bot = r1[xa] + fx * (static_cast<float>(r1[xb]) - r1[xa]);
-  return (top + fy * (bot - top)) * (1.f / 255.f);
-}
-
-float SceneTexture::sample(float u_m, float v_m, float footprint_texels) const {
-  if (!(footprint_texels > 1.f)) return sampleLevel(u_m, v_m, 0);
-  const float lod = std::log2(footprint_texels);
-  const int l0 = static_cast<int>(lod);
-  if (l0 >= static_cast<int>(levels_.size()) - 1) return sampleLevel(u_m, v_m, l0);
-  const float f = lod - static_cast<float>(l0);
-  const float a = sampleLevel(u_m, v_m, l0);
-  const float b = sampleLevel(u_m, v_m, l0 + 1);
-  return a + f * (b - a);
+  max_lod_ = static_cast<float>(levels_.size() - 1) - 1e-3f;
+  for (size_t i = 0; i < levels_.size(); ++i)
+    view_.push_back(Level{levels_[i].data, levels_[i].step[0], levels_[i].cols - 1, levels_[i].rows - 1,
+                          texels_per_m / static_cast<float>(1 << i)});
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -242,75 +214,6 @@ Scene Scene::makeDefaultRoom(const SceneParams& p) {
   Scene s(p, std::move(tex), std::move(boxes));
   s.photo_posters_ = posters;
   return s;
-}
-
-bool Scene::castRay(const Eigen::Vector3f& o, const Eigen::Vector3f& d, SceneHit* hit) const {
-  if (!d.allFinite() || !o.allFinite()) return false;
-  if ((o.array() <= room_lo_.array()).any() || (o.array() >= room_hi_.array()).any()) return false;
-  const float ix = 1.f / d.x(), iy = 1.f / d.y(), iz = 1.f / d.z();
-  // Room exit: the nearest of the three faces the ray points to.
-  const float tx = ((d.x() > 0 ? room_hi_.x() : room_lo_.x()) - o.x()) * ix;
-  const float ty = ((d.y() > 0 ? room_hi_.y() : room_lo_.y()) - o.y()) * iy;
-  const float tz = ((d.z() > 0 ? room_hi_.z() : room_lo_.z()) - o.z()) * iz;
-  float best = tx;
-  int axis = 0;
-  if (ty < best) best = ty, axis = 1;
-  if (tz < best) best = tz, axis = 2;
-  int surface = axis * 2 + ((axis == 0 ? d.x() : axis == 1 ? d.y() : d.z()) > 0 ? 1 : 0);
-  // Boxes: slab test, entry face = axis of the largest near-slab distance.
-  for (size_t i = 0; i < boxes_.size(); ++i) {
-    const SceneBox& b = boxes_[i];
-    const float ax = (b.lo.x() - o.x()) * ix, bx = (b.hi.x() - o.x()) * ix;
-    const float ay = (b.lo.y() - o.y()) * iy, by = (b.hi.y() - o.y()) * iy;
-    const float az = (b.lo.z() - o.z()) * iz, bz = (b.hi.z() - o.z()) * iz;
-    const float nx = std::min(ax, bx), ny = std::min(ay, by), nz = std::min(az, bz);
-    const float fx = std::max(ax, bx), fy = std::max(ay, by), fz = std::max(az, bz);
-    const float tn = std::max(nx, std::max(ny, nz));
-    const float tf = std::min(fx, std::min(fy, fz));
-    if (tn <= tf && tn > 1e-4f && tn < best) {
-      best = tn;
-      axis = (nx >= ny && nx >= nz) ? 0 : (ny >= nz ? 1 : 2);
-      surface = 6 + static_cast<int>(i);
-    }
-  }
-  if (!(best > 0.f) || !std::isfinite(best)) return false;
-  hit->t = best;
-  hit->point = o + best * d;
-  hit->normal.setZero();
-  const float dir_axis = axis == 0 ? d.x() : axis == 1 ? d.y() : d.z();
-  const float n = dir_axis > 0 ? -1.f : 1.f;  // faces the ray origin
-  hit->normal[axis] = n;
-  const Eigen::Vector3f& p = hit->point;
-  // (u, v): u = p . (up x n) on vertical faces (viewer's right), v = -z (down); floor/ceiling: (x, y).
-  float u, v;
-  if (axis == 0) u = n * p.y(), v = -p.z();
-  else if (axis == 1) u = -n * p.x(), v = -p.z();
-  else u = p.x(), v = n * p.y();
-  if (surface < 6) {
-    hit->texture = surface;
-    // Room faces: shift so that the face covers [0, extent) of its texture (posters placed there).
-    const Eigen::Vector3f ext = room_hi_ - room_lo_;
-    if (axis == 0) u += ext.y() / 2, v += ext.z();
-    else if (axis == 1) u += ext.x() / 2, v += ext.z();
-    else u += ext.x() / 2, v += ext.y() / 2;
-  } else {
-    hit->texture = boxes_[surface - 6].texture;
-    u += 0.37f * (surface + axis), v += 0.23f * (surface + 2 * axis);  // different patch per face
-  }
-  hit->u = u;
-  hit->v = v;
-  hit->surface = surface;
-  return true;
-}
-
-float Scene::shade(const SceneHit& hit, float footprint_texels) const {
-  const float albedo = textures_[hit.texture].sample(hit.u, hit.v, footprint_texels);
-  const Eigen::Vector3f l = light_ - hit.point;
-  const float d2 = l.squaredNorm();
-  const float cosang = std::max(0.f, hit.normal.dot(l)) / std::sqrt(d2 + 1e-12f);
-  const float direct = std::min(1.f, cosang * 1.6f / (1.f + d2 / 9.f));
-  const float a = static_cast<float>(params_.ambient);
-  return albedo * (a + (1.f - a) * direct);
 }
 
 }  // namespace iraf_vo

@@ -59,7 +59,8 @@ class Renderer {
   int64_t frameStampNs(int frame) const;
 
  private:
-  void renderRows(const Eigen::Isometry3d& T_W_C, int r0, int r1, cv::Mat* radiance, cv::Mat* depth) const;
+  /// Renders tile rows [tr0, tr1).
+  void renderTileRows(const Eigen::Isometry3d& T_W_C, int tr0, int tr1, cv::Mat* radiance, cv::Mat* depth) const;
 
   CameraModelPtr camera_;
   std::shared_ptr<const Scene> scene_;
@@ -69,6 +70,12 @@ class Renderer {
   // angular footprint (rad) for the mip level; valid = 0 where unprojection failed.
   std::vector<float> bx_, by_, bz_, footprint_;
   std::vector<uint8_t> valid_;
+  // Box culling: the rays of a kTile x kTile tile lie in a cone (axis in the camera frame, half-angle);
+  // only boxes whose bounding sphere meets the cone are intersected.
+  static constexpr int kTile = 16;
+  int tiles_x_ = 0, tiles_y_ = 0;
+  std::vector<Eigen::Vector3f> tile_axis_;
+  std::vector<float> tile_half_angle_;
 };
 
 }  // namespace iraf_vo
