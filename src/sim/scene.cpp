@@ -106,8 +106,12 @@ cv::Mat makeProceduralTexture(int width, int height, double texels_per_m, uint64
   }
   // A few thick lines (long straight edges, T-junctions with the rectangles).
   const int n_line = static_cast<int>(area_m2 * 0.6);
-  for (int i = 0; i < n_line; ++i)
-    cv::line(img, pt(), pt(), gray(), std::max(2, (int)(rng.uniform(0.01, 0.04) * tpm)), cv::LINE_AA);
+  for (int i = 0; i < n_line; ++i) {
+    const cv::Point2f a = pt();
+    const double len = logUniform(0.15, 1.2) * tpm, ang = rng.uniform(0.0, 2 * M_PI);
+    const cv::Point2f b(a.x + (float)(len * std::cos(ang)), a.y + (float)(len * std::sin(ang)));
+    cv::line(img, a, b, gray(), std::max(2, (int)(rng.uniform(0.01, 0.04) * tpm)), cv::LINE_AA);
+  }
 
   // Fine grain over everything (surfaces are never perfectly flat-coloured), then keep albedo in [0.06, 0.94].
   cv::Mat grain(height / 4, width / 4, CV_32F), grain_up, f;
