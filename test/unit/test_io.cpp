@@ -1,5 +1,8 @@
 // ASL image folder reader, trajectory readers (TUM / EuRoC) and the TUM writer.
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdlib>
 
 #include <cstdio>
 #include <fstream>
@@ -11,10 +14,20 @@
 
 using namespace iraf_vo;
 
+/// Per-process temp prefix so parallel runs (ctest -j, plain + sanitizer builds) never share files.
+inline std::string tmpRoot() {
+  return (testing::TempDir().empty() ? std::string("/tmp/") : testing::TempDir()) + "iraf_vo_" +
+         std::to_string(::getpid()) + "_";
+}
+struct TmpCleanup : testing::Environment {
+  void TearDown() override { std::system(("rm -rf " + tmpRoot() + "*").c_str()); }
+};
+const testing::Environment* const kTmpCleanup = testing::AddGlobalTestEnvironment(new TmpCleanup);
+
 namespace {
 
 std::string tmpDir(const std::string& name) {
-  const std::string d = (testing::TempDir().empty() ? std::string("/tmp/") : testing::TempDir()) + "iraf_vo_io_" + name;
+  const std::string d = tmpRoot() + "iraf_vo_io_" + name;
   std::system(("rm -rf '" + d + "' && mkdir -p '" + d + "'").c_str());
   return d;
 }
