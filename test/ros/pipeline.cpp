@@ -6,8 +6,8 @@
 //      vs the simulator's ground truth below a bound, tracking recovered after the dark segment.
 //   2. LiveTuning: dynamic_reconfigure of features (fixed FAST threshold) and enhance (mu_expected) while frames
 //      flow: Features / EnhanceStats reflect the change within a few frames.
-//   3. BadInput: wrong encoding, empty image, duplicated and out-of-order stamps, a jump back in time: nothing
-//      crashes, the tracker restarts on the jump and tracks again.
+//   3. BadInput: wrong encoding, empty image, wrong size, duplicated and out-of-order stamps, a jump back in time,
+//      a black-out: nothing crashes, the tracker restarts on the jump / re-initializes after the loss, tracks again.
 #include <gtest/gtest.h>
 
 #include <dynamic_reconfigure/client.h>
@@ -30,6 +30,7 @@
 #include "iraf_vo/EnhanceStats.h"
 #include "iraf_vo/Features.h"
 #include "iraf_vo/FeaturesConfig.h"
+#include "iraf_vo/TrackerConfig.h"
 #include "iraf_vo/TrackingStatus.h"
 #include "iraf_vo/eval/trajectory_eval.h"
 #include "iraf_vo/io/image_folder.h"
@@ -262,6 +263,22 @@ TEST_F(PipelineTest, LiveTuning) {
   EXPECT_GE(stats_frames, 4);
   }
 
+  // Tracker: a parameter change and the `reset` button (reads back false; the next frame restarts the tracker).
+  const iraf_vo::TrackingStatusConstPtr before = lastStatus();
+  ASSERT_TRUE(before);
+  dynamic_reconfigure::Client<iraf_vo::TrackerConfig> tclient("/tracker");
+  iraf_vo::TrackerConfig tc;
+  ASSERT_TRUE(tclient.getCurrentConfiguration(tc, ros::Duration(5.0)));
+  tc.ba_window_size = 8;
+  tc.reset = true;
+  ASSERT_TRUE(tclient.setConfiguration(tc));
+  EXPECT_FALSE(tc.reset) << "reset must read back false";
+  EXPECT_EQ(tc.ba_window_size, 8);
+  publishSome(2);
+  const iraf_vo::TrackingStatusConstPtr after = lastStatus();
+  ASSERT_TRUE(after);
+  EXPECT_EQ(after->resets, before->resets + 1);
+
   // Restore the defaults for the next test.
   fc.adaptive_threshold = true;
   fc.ini_th_fast = 20;
@@ -315,6 +332,32 @@ TEST_F(PipelineTest, BadInputAndTimeJumps) {
     std::lock_guard<std::mutex> l(mutex_);
     return path_ && static_cast<int>(path_->poses.size()) == tracked;
   }, 3.0)) << "path size " << (path_ ? path_->poses.size() : 0) << " vs tracked " << tracked;
+
+  // Black-out (lights off for 6 frames): the tracker is lost, then re-initializes on the lit frames 180..239 of the
+  // sequence (normal light from ~204; a different place of the loop: a kidnap) and tracks again.
+  const long lost_events0 = last->lost_events, resets0 = last->resets;
+  ros::Time t = g_frames[59].stamp;
+  const cv::Mat black(img.size(), CV_8UC1, cv::Scalar(0));
+  for (int k = 0; k < 6; ++k) {
+    t += ros::Duration(0.05);
+    iraf_vo::TrackingStatusConstPtr s = track(black, t);
+    ASSERT_TRUE(s) << "no status for a black frame";
+    EXPECT_NE(s->state, iraf_vo::TrackingStatus::TRACKING);
+  }
+  int tracked_after = 0;
+  for (int i = 180; i < kFrames; ++i) {
+    t += ros::Duration(0.05);
+    iraf_vo::TrackingStatusConstPtr s = track(g_frames[i].gray, t);
+    if (!s) continue;
+    last = s;
+    if (s->state == iraf_vo::TrackingStatus::TRACKING) ++tracked_after;
+  }
+  std::printf("[pipeline] black-out: lost events %ld -> %ld, resets %ld -> %ld, tracked %d of %d frames after\n",
+              lost_events0, static_cast<long>(last->lost_events), resets0, static_cast<long>(last->resets), tracked_after,
+              kFrames - 180);
+  EXPECT_GE(last->lost_events, lost_events0 + 1);
+  EXPECT_GE(tracked_after, 15) << "no recovery after the black-out";
+  EXPECT_EQ(last->state, iraf_vo::TrackingStatus::TRACKING);
 }
 
 bool renderSequence(std::string* error) {
