@@ -86,17 +86,18 @@ struct FrontItem {
 };
 
 // Bounded single-producer / single-consumer queue.
+template <typename Item>
 class BoundedQueue {
  public:
   explicit BoundedQueue(size_t cap) : cap_(cap) {}
-  void push(FrontItem&& it) {
+  void push(Item&& it) {
     std::unique_lock<std::mutex> lk(m_);
     not_full_.wait(lk, [&] { return q_.size() < cap_ || closed_; });
     if (closed_) return;
     q_.push_back(std::move(it));
     not_empty_.notify_one();
   }
-  bool pop(FrontItem* it) {
+  bool pop(Item* it) {
     std::unique_lock<std::mutex> lk(m_);
     not_empty_.wait(lk, [&] { return !q_.empty(); });
     *it = std::move(q_.front());
@@ -113,10 +114,19 @@ class BoundedQueue {
  private:
   size_t cap_;
   bool closed_ = false;
-  std::deque<FrontItem> q_;
+  std::deque<Item> q_;
   std::mutex m_;
   std::condition_variable not_full_, not_empty_;
 };
+
+// Resident set size of this process in MiB (Linux /proc), -1 when unavailable.
+double rssMiB() {
+  std::ifstream f("/proc/self/status");
+  std::string line;
+  while (std::getline(f, line))
+    if (line.rfind("VmRSS:", 0) == 0) return std::atof(line.c_str() + 6) / 1024.0;
+  return -1.0;
+}
 
 bool isDirectory(const std::string& p) {
   struct stat st;
@@ -306,60 +316,82 @@ int main(int argc, char** argv) {
   const long last = max_frames >= 0 ? std::min<long>(total, first + max_frames) : static_cast<long>(total);
   const long n_run = std::max<long>(0, last - first);
 
-  // ---- front-end thread: read -> enhance -> features ----
-  BoundedQueue queue(4);
-  std::thread front([&] {
-    iraf_vo::Enhancer enhancer;
-    iraf_vo::FeatureExtractor extractor;
+  // ---- reader thread (image decoding) -> front-end thread (enhance + features) -> tracking (this thread) ----
+  struct ReadItem {
+    long index = 0;
+    double stamp = 0;
+    cv::Mat gray;
+    double ms_read = 0;
+    bool end = false, error = false;
+    std::string message;
+  };
+  BoundedQueue<ReadItem> read_queue(4);
+  BoundedQueue<FrontItem> queue(4);
+  std::thread reader([&] {
     long idx = 0;
     for (;;) {
-      FrontItem it;
-      auto t0 = Clock::now();
-      cv::Mat gray;
-      double stamp = 0;
+      ReadItem it;
+      const auto t0 = Clock::now();
       bool have = false;
       if (!is_bag) {
-        if (idx < first) {
-          idx = first;
-        }
+        if (idx < first) idx = first;
         if (idx < last) {
           std::string e;
-          if (!asl.loadImage(static_cast<size_t>(idx), &gray, &e)) {
+          if (!asl.loadImage(static_cast<size_t>(idx), &it.gray, &e)) {
             it.error = true;
             it.message = e;
           }
-          stamp = asl.entries()[idx].stamp();
+          it.stamp = asl.entries()[idx].stamp();
           have = true;
         }
       } else {
         ros::Time t;
-        while (idx < first && bag.next(&t, &gray)) ++idx;
-        if (idx < last && bag.next(&t, &gray)) {
-          stamp = t.toSec();
+        while (idx < first && bag.next(&t, &it.gray)) ++idx;
+        if (idx < last && bag.next(&t, &it.gray)) {
+          it.stamp = t.toSec();
           have = true;
         }
       }
       if (!have) {
         it.end = true;
-        queue.push(std::move(it));
+        read_queue.push(std::move(it));
         return;
       }
       it.index = idx++;
       it.ms_read = msSince(t0);
+      read_queue.push(std::move(it));
+    }
+  });
+  std::thread front([&] {
+    iraf_vo::Enhancer enhancer;
+    iraf_vo::FeatureExtractor extractor;
+    for (;;) {
+      ReadItem in;
+      read_queue.pop(&in);
+      FrontItem it;
+      if (in.end) {
+        it.end = true;
+        queue.push(std::move(it));
+        return;
+      }
+      it.index = in.index;
+      it.ms_read = in.ms_read;
+      it.error = in.error;
+      it.message = in.message;
       if (!it.error) {
         try {
-          t0 = Clock::now();
-          const iraf_vo::EnhanceResult er = enhancer.enhance(gray, ep);
+          auto t0 = Clock::now();
+          const iraf_vo::EnhanceResult er = enhancer.enhance(in.gray, ep);
           it.ms_enhance = msSince(t0);
           t0 = Clock::now();
-          it.frame = extractor.extract(er.image, stamp, fp);
+          it.frame = extractor.extract(er.image, in.stamp, fp);
           it.ms_features = msSince(t0);
         } catch (const std::exception& e) {
           it.error = true;
           it.message = e.what();
         }
       }
-      it.frame.stamp = stamp;
+      it.frame.stamp = in.stamp;
       queue.push(std::move(it));
     }
   });
@@ -371,6 +403,7 @@ int main(int argc, char** argv) {
   const bool tty = isatty(fileno(stderr)) && !quiet;
   const auto t_start = Clock::now();
   long processed = 0, errors = 0;
+  std::vector<std::pair<long, double>> rss;  // (frames processed, MiB)
   iraf_vo::TrackingState last_state = iraf_vo::TrackingState::kNotInitialized;
   for (;;) {
     FrontItem it;
@@ -393,6 +426,7 @@ int main(int argc, char** argv) {
     ms["track_keyframe"].push_back(r.timing.ms_keyframe);
     if (r.timing.ms_init > 0) ms["track_init"].push_back(r.timing.ms_init);
     if (r.state == iraf_vo::TrackingState::kTracking) est.push_back(it.frame.stamp, r.T_w_c);
+    if (processed % 500 == 0) rss.emplace_back(processed, rssMiB());
     const double el = std::chrono::duration<double>(Clock::now() - t_start).count();
     if (tty) {
       const int width = 30;
@@ -407,7 +441,9 @@ int main(int argc, char** argv) {
     }
   }
   queue.close();
+  read_queue.close();
   front.join();
+  reader.join();
   tracker.waitForMapping();
   const double wall = std::chrono::duration<double>(Clock::now() - t_start).count();
   if (tty) std::fprintf(stderr, "\n");
@@ -433,6 +469,11 @@ int main(int argc, char** argv) {
     char buf[160];
     std::snprintf(buf, sizeof(buf), "  %-15s %7.2f %7.2f %7.2f\n", kv.first.c_str(), p.median, p.p95, p.mean);
     summary << buf;
+  }
+  if (!rss.empty()) {
+    summary << "RSS [MiB] after frames:";
+    for (const auto& x : rss) summary << " " << x.first << ": " << x.second;
+    summary << "\n";
   }
   iraf_vo::EvalResult ev;
   bool have_ate = false;
@@ -467,7 +508,9 @@ int main(int argc, char** argv) {
          << ", \"mean\": " << p.mean << "}";
       firstk = false;
     }
-    js << "\n  }";
+    js << "\n  },\n  \"rss_mib\": {";
+    for (size_t k = 0; k < rss.size(); ++k) js << (k ? ", " : "") << "\"" << rss[k].first << "\": " << rss[k].second;
+    js << "}";
     if (have_ate)
       js << ",\n  \"ate_rmse\": " << ev.ate.rmse << ",\n  \"ate_median\": " << ev.ate.median
          << ",\n  \"ate_scale\": " << ev.scale << ",\n  \"ate_matched\": " << ev.n_matched;
