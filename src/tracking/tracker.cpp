@@ -184,6 +184,7 @@ std::string validate(const TrackerParams& p) {
   if (p.ba_max_num_iterations < 0) return bad("ba_max_num_iterations", "must be >= 0");
   if (!(p.ba_max_solver_time_in_seconds > 0)) return bad("ba_max_solver_time_in_seconds", "must be > 0");
   if (!(p.ba_huber_delta > 0)) return bad("ba_huber_delta", "must be > 0");
+  if (p.sync_mapping_busy_frames < 0) return bad("sync_mapping_busy_frames", "must be >= 0");
   if (p.lost_frames_before_reset < 0) return bad("lost_frames_before_reset", "must be >= 0");
   return "";
 }
@@ -690,7 +691,7 @@ struct Tracker::Impl {
   // Keyframes
   // =========================================================================================
   bool mappingIdle() {
-    if (!p.mapping_thread) return true;
+    if (!p.mapping_thread) return frames_since_kf >= p.sync_mapping_busy_frames;
     std::lock_guard<std::mutex> lk(q_mutex);
     return queue.empty() && !busy;
   }

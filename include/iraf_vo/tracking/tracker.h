@@ -22,6 +22,7 @@
 //     (a) inliers < keyframe_min_tracked                                   (losing the map: insert now)
 //     (b) inliers < keyframe_tracked_ratio * (points of the reference keyframe seen by >= 2 keyframes)
 //         (0.9 as ORB-SLAM mono) AND (mapping thread idle OR frames since last keyframe >= max_frames_between_keyframes)
+//         (mapping_thread = false: "idle" = frames since last keyframe >= sync_mapping_busy_frames)
 //     (c) frames since the last keyframe >= max_frames_between_keyframes AND inliers < 0.98 * reference
 //   The keyframe gets the frame's inlier matches as observations.
 //
@@ -99,6 +100,8 @@ struct TrackerParams {
   int max_frames_between_keyframes = 20;
   // ---- local mapping ----
   bool mapping_thread = true;           // false: mapping runs synchronously inside track() (deterministic)
+  int sync_mapping_busy_frames = 3;     // mapping_thread = false: the keyframe policy treats mapping as busy for
+                                        // this many frames after a keyframe (emulates the threaded keyframe rate)
   int num_triangulation_neighbors = 6;
   double min_triangulation_parallax_deg = 1.0;
   double min_found_ratio = 0.25;
