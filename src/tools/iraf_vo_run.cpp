@@ -44,7 +44,7 @@ void usage(FILE* f) {
   std::fprintf(f,
                "usage: iraf_vo_run --dataset DIR_OR_BAG [--topic T] [--camera sensor.yaml] --out traj.txt\n"
                "                   [--mode iraf|baseline|enhance|adaptive|culling] [--gt GT] [--stats stats.json]\n"
-               "                   [--config params.yaml] [--first N] [--frames N] [--set section.key=value] [--quiet]\n"
+               "                   [--config params.yaml] [--first N] [--frames N] [--set section.key=value] [--frame-log F] [--quiet]\n"
                "  --dataset  ASL folder (DIR/mav0/cam0/data.csv) or a rosbag (.bag, needs --topic)\n"
                "  --camera   camera yaml (default: the ASL folder's mav0/cam0/sensor.yaml)\n"
                "  --mode     iraf = enhancement + adaptive threshold + culling (default); baseline = all off;\n"
@@ -52,6 +52,7 @@ void usage(FILE* f) {
                "  --gt       ground truth (TUM or EuRoC csv) -> Sim(3) ATE in the summary\n"
                "  --config   YAML with optional maps 'enhance:', 'features:', 'tracker:' (keys = parameter names)\n"
                "  --first/--frames  process frames [first, first + frames) only\n"
+               "  --frame-log per-frame CSV: index,stamp,state,keypoints,matches,inliers,keyframe,pnp,ms_track\n"
                "  --set      override one parameter, e.g. --set tracker.ba_window_size=12 (after --mode / --config)\n");
 }
 
@@ -136,6 +137,7 @@ bool isDirectory(const std::string& p) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  std::string frame_log_path;
   std::string dataset, topic, camera_path, out, mode = "iraf", gt_path, stats_path, config_path;
   long first = 0, max_frames = -1;
   bool quiet = false;
@@ -170,6 +172,8 @@ int main(int argc, char** argv) {
       config_path = value();
     } else if (a == "--set") {
       sets.push_back(value());
+    } else if (a == "--frame-log") {
+      frame_log_path = value();
     } else if (a == "--quiet") {
       quiet = true;
     } else if (a == "--first" || a == "--frames") {
@@ -396,6 +400,15 @@ int main(int argc, char** argv) {
     }
   });
 
+  std::ofstream frame_log;
+  if (!frame_log_path.empty()) {
+    frame_log.open(frame_log_path);
+    if (!frame_log) {
+      std::fprintf(stderr, "iraf_vo_run: --frame-log %s: cannot write\n", frame_log_path.c_str());
+      return 1;
+    }
+    frame_log << "index,stamp,state,keypoints,matches,inliers,keyframe,pnp,ms_track\n";
+  }
   // ---- back-end: tracking ----
   iraf_vo::Tracker tracker(cam, tp);
   iraf_vo::Trajectory est;
@@ -417,6 +430,10 @@ int main(int argc, char** argv) {
     }
     const iraf_vo::TrackResult r = tracker.track(it.frame);
     last_state = r.state;
+    if (frame_log)
+      frame_log << it.index << "," << std::fixed << it.frame.stamp << std::defaultfloat << "," << iraf_vo::toString(r.state)
+                << "," << it.frame.keypoints.size() << "," << r.matches << "," << r.inliers << "," << r.is_keyframe << ","
+                << r.used_pnp << "," << r.timing.ms_total << "\n";
     ms["read"].push_back(it.ms_read);
     ms["enhance"].push_back(it.ms_enhance);
     ms["features"].push_back(it.ms_features);
