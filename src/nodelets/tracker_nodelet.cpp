@@ -21,7 +21,7 @@
 //
 // Parameter changes (dynamic_reconfigure, cfg/Tracker.cfg): the core Tracker takes its parameters at
 // construction. A change is applied at once (new tracker) while nothing is tracked yet / the tracker is lost;
-// while tracking it waits for the next restart (time jump, or the cfg `reset` button: restarts now). A restart
+// while tracking it waits for the next restart (time jump, or the `~reset` service: restarts on the next frame). A restart
 // while tracking re-anchors the new map at the last published pose, so the path continues (scale of the new map:
 // median depth 1 again; the core's loss recovery has the same caveat).
 #include <dynamic_reconfigure/server.h>
@@ -56,39 +56,21 @@ namespace iraf_vo {
 
 namespace {
 
-/// Copies the cfg fields into TrackerParams (same names); every other field of `base` is kept.
-TrackerParams toParams(const iraf_vo::TrackerConfig& c, TrackerParams p) {
-  p.keyframe_tracked_ratio = c.keyframe_tracked_ratio;
-  p.keyframe_min_tracked = c.keyframe_min_tracked;
-  p.min_frames_between_keyframes = c.min_frames_between_keyframes;
-  p.max_frames_between_keyframes = c.max_frames_between_keyframes;
-  p.ba_window_size = c.ba_window_size;
-  p.max_map_keyframes = c.max_map_keyframes;
-  p.ba_max_num_iterations = c.ba_max_num_iterations;
-  p.ba_max_solver_time_in_seconds = c.ba_max_solver_time_in_seconds;
-  p.match_threshold_high = c.match_threshold_high;
-  p.match_threshold_low = c.match_threshold_low;
-  p.match_ratio = c.match_ratio;
-  p.search_radius_px = c.search_radius_px;
-  p.search_radius_wide_px = c.search_radius_wide_px;
-  p.min_search_matches = c.min_search_matches;
-  p.min_tracking_inliers = c.min_tracking_inliers;
-  p.lost_frames_before_reset = c.lost_frames_before_reset;
-  return p;
-}
-
-bool sameParams(const TrackerParams& a, const TrackerParams& b) {
-  // The cfg fields + scale_factor: the only ones that change at run time.
-  return a.keyframe_tracked_ratio == b.keyframe_tracked_ratio && a.keyframe_min_tracked == b.keyframe_min_tracked &&
-         a.min_frames_between_keyframes == b.min_frames_between_keyframes &&
-         a.max_frames_between_keyframes == b.max_frames_between_keyframes && a.ba_window_size == b.ba_window_size &&
-         a.max_map_keyframes == b.max_map_keyframes && a.ba_max_num_iterations == b.ba_max_num_iterations &&
-         a.ba_max_solver_time_in_seconds == b.ba_max_solver_time_in_seconds &&
-         a.match_threshold_high == b.match_threshold_high && a.match_threshold_low == b.match_threshold_low &&
-         a.match_ratio == b.match_ratio && a.search_radius_px == b.search_radius_px &&
-         a.search_radius_wide_px == b.search_radius_wide_px && a.min_search_matches == b.min_search_matches &&
-         a.min_tracking_inliers == b.min_tracking_inliers && a.lost_frames_before_reset == b.lost_frames_before_reset &&
-         a.scale_factor == b.scale_factor;
+/// Copies every cfg field into TrackerParams by name (cfg/Tracker.cfg = TrackerParams field for field, checked by
+/// test_tracking_params). false + *error naming the field when one is rejected.
+bool toParams(const iraf_vo::TrackerConfig& c, TrackerParams* p, std::string* error) {
+  for (const auto& d : iraf_vo::TrackerConfig::__getParamDescriptions__()) {
+    boost::any v;
+    d->getValue(c, v);
+    std::ostringstream s;
+    s.precision(17);
+    if (d->type == "int") s << boost::any_cast<int>(v);
+    else if (d->type == "double") s << boost::any_cast<double>(v);
+    else if (d->type == "bool") s << (boost::any_cast<bool>(v) ? "true" : "false");
+    else s << boost::any_cast<std::string>(v);
+    if (!setTrackerParam(p, d->name, s.str(), error)) return false;
+  }
+  return true;
 }
 
 /// XmlRpc scalar -> text for setTrackerParam.
@@ -185,6 +167,7 @@ class TrackerNodelet : public nodelet::Nodelet {
     status_pub_ = nh.advertise<iraf_vo::TrackingStatus>("tracking_status", 10);
     tf_ = std::make_shared<tf2_ros::TransformBroadcaster>();
     save_srv_ = pnh.advertiseService("save_trajectory", &TrackerNodelet::saveCb, this);
+    reset_srv_ = pnh.advertiseService("reset", &TrackerNodelet::resetCb, this);
 
     reconfigure_ = std::make_shared<ReconfigureServer>(reconfigure_mutex_, pnh);
     reconfigure_->setCallback([this](iraf_vo::TrackerConfig& c, uint32_t) { configure(c); });
@@ -192,20 +175,25 @@ class TrackerNodelet : public nodelet::Nodelet {
     if (camera_) sub_ = nh.subscribe("features", queue_size_, &TrackerNodelet::featuresCb, this);
   }
 
-  void configure(iraf_vo::TrackerConfig& c) {
+  void configure(const iraf_vo::TrackerConfig& c) {
     std::lock_guard<std::mutex> lock(mutex_);
-    const TrackerParams p = toParams(c, pending_params_);
-    const std::string err = validate(p);
-    if (!err.empty()) {
+    TrackerParams p = pending_params_;
+    std::string err;
+    if (!toParams(c, &p, &err) || !(err = validate(p)).empty()) {
       NODELET_ERROR("tracker: rejected parameters: %s", err.c_str());
-    } else {
-      pending_params_ = p;
+      return;
     }
-    if (c.reset) {
-      c.reset = false;  // a button: reads back false
-      restart_requested_ = true;
-      NODELET_INFO("tracker: restart requested (applies on the next frame)");
-    }
+    pending_params_ = p;
+    if (configured_once_) params_dirty_ = true;  // the first call only reports the startup values
+    configured_once_ = true;
+  }
+
+  bool resetCb(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    restart_requested_ = true;
+    res.success = true;
+    res.message = "the tracker restarts on the next frame (new map, path continues)";
+    return true;
   }
 
   bool saveCb(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
@@ -234,6 +222,7 @@ class TrackerNodelet : public nodelet::Nodelet {
       tracker_ = std::make_unique<Tracker>(camera_, params_);
     }
     params_ = tracker_->params();
+    params_dirty_ = false;
     anchor_ = anchor;
     internal_resets_base_ += internal_resets_last_;
     internal_resets_last_ = 0;
@@ -287,7 +276,7 @@ class TrackerNodelet : public nodelet::Nodelet {
     checkScaleFactor(*msg);
 
     // ---- (re)create the tracker when needed ----
-    const bool params_changed = !sameParams(pending_params_, params_);
+    const bool params_changed = params_dirty_;
     if (!tracker_) {
       createTracker(Eigen::Isometry3d::Identity());
     } else if (restart_requested_ ||
@@ -449,7 +438,7 @@ class TrackerNodelet : public nodelet::Nodelet {
 
   ros::Subscriber sub_;
   ros::Publisher odom_pub_, path_pub_, points_pub_, keyframes_pub_, status_pub_;
-  ros::ServiceServer save_srv_;
+  ros::ServiceServer save_srv_, reset_srv_;
   std::shared_ptr<tf2_ros::TransformBroadcaster> tf_;
 
   int queue_size_ = 10;
@@ -462,6 +451,7 @@ class TrackerNodelet : public nodelet::Nodelet {
   CameraModelPtr camera_;
   TrackerParams params_, pending_params_;
   bool restart_requested_ = false;
+  bool params_dirty_ = false, configured_once_ = false;
   bool scale_checked_ = false;
   std::unique_ptr<Tracker> tracker_;
   Eigen::Isometry3d anchor_ = Eigen::Isometry3d::Identity();

@@ -44,7 +44,7 @@ void usage(FILE* f) {
   std::fprintf(f,
                "usage: iraf_vo_run --dataset DIR_OR_BAG [--topic T] [--camera sensor.yaml] --out traj.txt\n"
                "                   [--mode iraf|baseline|enhance|adaptive|culling] [--gt GT] [--stats stats.json]\n"
-               "                   [--config params.yaml] [--first N] [--frames N] [--set section.key=value] [--quiet]\n"
+               "                   [--config params.yaml] [--first N] [--frames N] [--set section.key=value] [--frame-log F] [--quiet]\n"
                "  --dataset  ASL folder (DIR/mav0/cam0/data.csv) or a rosbag (.bag, needs --topic)\n"
                "  --camera   camera yaml (default: the ASL folder's mav0/cam0/sensor.yaml)\n"
                "  --mode     iraf = enhancement + adaptive threshold + culling (default); baseline = all off;\n"
@@ -52,6 +52,7 @@ void usage(FILE* f) {
                "  --gt       ground truth (TUM or EuRoC csv) -> Sim(3) ATE in the summary\n"
                "  --config   YAML with optional maps 'enhance:', 'features:', 'tracker:' (keys = parameter names)\n"
                "  --first/--frames  process frames [first, first + frames) only\n"
+               "  --frame-log per-frame CSV: index,stamp,state,keypoints,matches,inliers,keyframe,pnp,ms_track\n"
                "  --set      override one parameter, e.g. --set tracker.ba_window_size=12 (after --mode / --config)\n");
 }
 
@@ -86,17 +87,18 @@ struct FrontItem {
 };
 
 // Bounded single-producer / single-consumer queue.
+template <typename Item>
 class BoundedQueue {
  public:
   explicit BoundedQueue(size_t cap) : cap_(cap) {}
-  void push(FrontItem&& it) {
+  void push(Item&& it) {
     std::unique_lock<std::mutex> lk(m_);
     not_full_.wait(lk, [&] { return q_.size() < cap_ || closed_; });
     if (closed_) return;
     q_.push_back(std::move(it));
     not_empty_.notify_one();
   }
-  bool pop(FrontItem* it) {
+  bool pop(Item* it) {
     std::unique_lock<std::mutex> lk(m_);
     not_empty_.wait(lk, [&] { return !q_.empty(); });
     *it = std::move(q_.front());
@@ -113,10 +115,19 @@ class BoundedQueue {
  private:
   size_t cap_;
   bool closed_ = false;
-  std::deque<FrontItem> q_;
+  std::deque<Item> q_;
   std::mutex m_;
   std::condition_variable not_full_, not_empty_;
 };
+
+// Resident set size of this process in MiB (Linux /proc), -1 when unavailable.
+double rssMiB() {
+  std::ifstream f("/proc/self/status");
+  std::string line;
+  while (std::getline(f, line))
+    if (line.rfind("VmRSS:", 0) == 0) return std::atof(line.c_str() + 6) / 1024.0;
+  return -1.0;
+}
 
 bool isDirectory(const std::string& p) {
   struct stat st;
@@ -126,6 +137,7 @@ bool isDirectory(const std::string& p) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  std::string frame_log_path;
   std::string dataset, topic, camera_path, out, mode = "iraf", gt_path, stats_path, config_path;
   long first = 0, max_frames = -1;
   bool quiet = false;
@@ -160,6 +172,8 @@ int main(int argc, char** argv) {
       config_path = value();
     } else if (a == "--set") {
       sets.push_back(value());
+    } else if (a == "--frame-log") {
+      frame_log_path = value();
     } else if (a == "--quiet") {
       quiet = true;
     } else if (a == "--first" || a == "--frames") {
@@ -306,64 +320,95 @@ int main(int argc, char** argv) {
   const long last = max_frames >= 0 ? std::min<long>(total, first + max_frames) : static_cast<long>(total);
   const long n_run = std::max<long>(0, last - first);
 
-  // ---- front-end thread: read -> enhance -> features ----
-  BoundedQueue queue(4);
-  std::thread front([&] {
-    iraf_vo::Enhancer enhancer;
-    iraf_vo::FeatureExtractor extractor;
+  // ---- reader thread (image decoding) -> front-end thread (enhance + features) -> tracking (this thread) ----
+  struct ReadItem {
+    long index = 0;
+    double stamp = 0;
+    cv::Mat gray;
+    double ms_read = 0;
+    bool end = false, error = false;
+    std::string message;
+  };
+  BoundedQueue<ReadItem> read_queue(4);
+  BoundedQueue<FrontItem> queue(4);
+  std::thread reader([&] {
     long idx = 0;
     for (;;) {
-      FrontItem it;
-      auto t0 = Clock::now();
-      cv::Mat gray;
-      double stamp = 0;
+      ReadItem it;
+      const auto t0 = Clock::now();
       bool have = false;
       if (!is_bag) {
-        if (idx < first) {
-          idx = first;
-        }
+        if (idx < first) idx = first;
         if (idx < last) {
           std::string e;
-          if (!asl.loadImage(static_cast<size_t>(idx), &gray, &e)) {
+          if (!asl.loadImage(static_cast<size_t>(idx), &it.gray, &e)) {
             it.error = true;
             it.message = e;
           }
-          stamp = asl.entries()[idx].stamp();
+          it.stamp = asl.entries()[idx].stamp();
           have = true;
         }
       } else {
         ros::Time t;
-        while (idx < first && bag.next(&t, &gray)) ++idx;
-        if (idx < last && bag.next(&t, &gray)) {
-          stamp = t.toSec();
+        while (idx < first && bag.next(&t, &it.gray)) ++idx;
+        if (idx < last && bag.next(&t, &it.gray)) {
+          it.stamp = t.toSec();
           have = true;
         }
       }
       if (!have) {
         it.end = true;
-        queue.push(std::move(it));
+        read_queue.push(std::move(it));
         return;
       }
       it.index = idx++;
       it.ms_read = msSince(t0);
+      read_queue.push(std::move(it));
+    }
+  });
+  std::thread front([&] {
+    iraf_vo::Enhancer enhancer;
+    iraf_vo::FeatureExtractor extractor;
+    for (;;) {
+      ReadItem in;
+      read_queue.pop(&in);
+      FrontItem it;
+      if (in.end) {
+        it.end = true;
+        queue.push(std::move(it));
+        return;
+      }
+      it.index = in.index;
+      it.ms_read = in.ms_read;
+      it.error = in.error;
+      it.message = in.message;
       if (!it.error) {
         try {
-          t0 = Clock::now();
-          const iraf_vo::EnhanceResult er = enhancer.enhance(gray, ep);
+          auto t0 = Clock::now();
+          const iraf_vo::EnhanceResult er = enhancer.enhance(in.gray, ep);
           it.ms_enhance = msSince(t0);
           t0 = Clock::now();
-          it.frame = extractor.extract(er.image, stamp, fp);
+          it.frame = extractor.extract(er.image, in.stamp, fp);
           it.ms_features = msSince(t0);
         } catch (const std::exception& e) {
           it.error = true;
           it.message = e.what();
         }
       }
-      it.frame.stamp = stamp;
+      it.frame.stamp = in.stamp;
       queue.push(std::move(it));
     }
   });
 
+  std::ofstream frame_log;
+  if (!frame_log_path.empty()) {
+    frame_log.open(frame_log_path);
+    if (!frame_log) {
+      std::fprintf(stderr, "iraf_vo_run: --frame-log %s: cannot write\n", frame_log_path.c_str());
+      return 1;
+    }
+    frame_log << "index,stamp,state,keypoints,matches,inliers,keyframe,pnp,ms_track\n";
+  }
   // ---- back-end: tracking ----
   iraf_vo::Tracker tracker(cam, tp);
   iraf_vo::Trajectory est;
@@ -371,6 +416,7 @@ int main(int argc, char** argv) {
   const bool tty = isatty(fileno(stderr)) && !quiet;
   const auto t_start = Clock::now();
   long processed = 0, errors = 0;
+  std::vector<std::pair<long, double>> rss;  // (frames processed, MiB)
   iraf_vo::TrackingState last_state = iraf_vo::TrackingState::kNotInitialized;
   for (;;) {
     FrontItem it;
@@ -384,6 +430,10 @@ int main(int argc, char** argv) {
     }
     const iraf_vo::TrackResult r = tracker.track(it.frame);
     last_state = r.state;
+    if (frame_log)
+      frame_log << it.index << "," << std::fixed << it.frame.stamp << std::defaultfloat << "," << iraf_vo::toString(r.state)
+                << "," << it.frame.keypoints.size() << "," << r.matches << "," << r.inliers << "," << r.is_keyframe << ","
+                << r.used_pnp << "," << r.timing.ms_total << "\n";
     ms["read"].push_back(it.ms_read);
     ms["enhance"].push_back(it.ms_enhance);
     ms["features"].push_back(it.ms_features);
@@ -393,6 +443,7 @@ int main(int argc, char** argv) {
     ms["track_keyframe"].push_back(r.timing.ms_keyframe);
     if (r.timing.ms_init > 0) ms["track_init"].push_back(r.timing.ms_init);
     if (r.state == iraf_vo::TrackingState::kTracking) est.push_back(it.frame.stamp, r.T_w_c);
+    if (processed % 500 == 0) rss.emplace_back(processed, rssMiB());
     const double el = std::chrono::duration<double>(Clock::now() - t_start).count();
     if (tty) {
       const int width = 30;
@@ -407,7 +458,9 @@ int main(int argc, char** argv) {
     }
   }
   queue.close();
+  read_queue.close();
   front.join();
+  reader.join();
   tracker.waitForMapping();
   const double wall = std::chrono::duration<double>(Clock::now() - t_start).count();
   if (tty) std::fprintf(stderr, "\n");
@@ -433,6 +486,11 @@ int main(int argc, char** argv) {
     char buf[160];
     std::snprintf(buf, sizeof(buf), "  %-15s %7.2f %7.2f %7.2f\n", kv.first.c_str(), p.median, p.p95, p.mean);
     summary << buf;
+  }
+  if (!rss.empty()) {
+    summary << "RSS [MiB] after frames:";
+    for (const auto& x : rss) summary << " " << x.first << ": " << x.second;
+    summary << "\n";
   }
   iraf_vo::EvalResult ev;
   bool have_ate = false;
@@ -467,7 +525,9 @@ int main(int argc, char** argv) {
          << ", \"mean\": " << p.mean << "}";
       firstk = false;
     }
-    js << "\n  }";
+    js << "\n  },\n  \"rss_mib\": {";
+    for (size_t k = 0; k < rss.size(); ++k) js << (k ? ", " : "") << "\"" << rss[k].first << "\": " << rss[k].second;
+    js << "}";
     if (have_ate)
       js << ",\n  \"ate_rmse\": " << ev.ate.rmse << ",\n  \"ate_median\": " << ev.ate.median
          << ",\n  \"ate_scale\": " << ev.scale << ",\n  \"ate_matched\": " << ev.n_matched;

@@ -692,7 +692,7 @@ bool bundleAdjust(const CameraModel& cam, std::vector<BAKeyframe>* kfs, std::vec
   if (n_res > 0) {
     sum.initial_rmse_px = reprojectionRmse(cam, *kfs, *pts, obs);
     ceres::Solver::Options so;
-    so.linear_solver_type = ceres::SPARSE_SCHUR;
+    so.linear_solver_type = options.dense_schur ? ceres::DENSE_SCHUR : ceres::SPARSE_SCHUR;
     so.max_num_iterations = options.max_num_iterations;
     so.max_solver_time_in_seconds = options.max_solver_time_in_seconds;
     so.num_threads = std::max(1, options.num_threads);

@@ -184,6 +184,8 @@ std::string validate(const TrackerParams& p) {
   if (p.ba_max_num_iterations < 0) return bad("ba_max_num_iterations", "must be >= 0");
   if (!(p.ba_max_solver_time_in_seconds > 0)) return bad("ba_max_solver_time_in_seconds", "must be > 0");
   if (!(p.ba_huber_delta > 0)) return bad("ba_huber_delta", "must be > 0");
+  if (p.starving_inliers < 0) return bad("starving_inliers", "must be >= 0");
+  if (p.sync_mapping_busy_frames < 0) return bad("sync_mapping_busy_frames", "must be >= 0");
   if (p.lost_frames_before_reset < 0) return bad("lost_frames_before_reset", "must be >= 0");
   return "";
 }
@@ -215,6 +217,7 @@ struct Tracker::Impl {
   std::condition_variable q_cv, idle_cv;
   std::deque<long> queue;
   bool busy = false, stop = false;
+  long last_triangulated_kf = -1;  // newest keyframe whose new points are in the map
   std::atomic<bool> abort_ba{false};
 
   // ---- stats ----
@@ -690,7 +693,7 @@ struct Tracker::Impl {
   // Keyframes
   // =========================================================================================
   bool mappingIdle() {
-    if (!p.mapping_thread) return true;
+    if (!p.mapping_thread) return frames_since_kf >= p.sync_mapping_busy_frames;
     std::lock_guard<std::mutex> lk(q_mutex);
     return queue.empty() && !busy;
   }
@@ -1063,6 +1066,13 @@ struct Tracker::Impl {
   void processKeyframe(long kf_id, bool run_ba) {
     cullRecentPoints(kf_id);
     triangulateNew(kf_id);
+    if (p.mapping_thread) {
+      {
+        std::lock_guard<std::mutex> lk(q_mutex);
+        last_triangulated_kf = kf_id;
+      }
+      idle_cv.notify_all();
+    }
     if (run_ba && !(p.mapping_thread && abort_ba.load())) localBundleAdjustment();
     dropOldKeyframes();
   }
@@ -1185,6 +1195,13 @@ struct Tracker::Impl {
       frames_since_kf = 0;
       enqueue(last_kf_id);
       kf = true;
+      // Map starvation: wait (bounded) until this keyframe's new points are triangulated; never for BA
+      // (a running BA is aborted by the new keyframe).
+      if (p.mapping_thread && res.inliers < p.starving_inliers) {
+        std::unique_lock<std::mutex> lk(q_mutex);
+        idle_cv.wait_for(lk, std::chrono::milliseconds(200),
+                         [this] { return stop || last_triangulated_kf >= last_kf_id; });
+      }
     }
     res.timing.ms_keyframe = msSince(t0);
     onTracked(cur, &res, kf);

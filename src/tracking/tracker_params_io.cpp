@@ -65,6 +65,8 @@ const std::map<std::string, Setter>& setters() {
     IRAF_INT(min_frames_between_keyframes)
     IRAF_INT(max_frames_between_keyframes)
     IRAF_BOOL(mapping_thread)
+    IRAF_INT(starving_inliers)
+    IRAF_INT(sync_mapping_busy_frames)
     IRAF_INT(num_triangulation_neighbors)
     IRAF_DBL(min_triangulation_parallax_deg)
     IRAF_DBL(min_found_ratio)

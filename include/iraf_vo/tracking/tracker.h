@@ -22,10 +22,12 @@
 //     (a) inliers < keyframe_min_tracked                                   (losing the map: insert now)
 //     (b) inliers < keyframe_tracked_ratio * (points of the reference keyframe seen by >= 2 keyframes)
 //         (0.9 as ORB-SLAM mono) AND (mapping thread idle OR frames since last keyframe >= max_frames_between_keyframes)
+//         (mapping_thread = false: "idle" = frames since last keyframe >= sync_mapping_busy_frames)
 //     (c) frames since the last keyframe >= max_frames_between_keyframes AND inliers < 0.98 * reference
 //   The keyframe gets the frame's inlier matches as observations.
 //
-// Local mapping (own thread unless mapping_thread = false; tracking never waits on it except on reset):
+// Local mapping (own thread unless mapping_thread = false; tracking never waits for BA; it waits for the
+//   triangulation of a new keyframe only when the map is starving (inliers < starving_inliers), and on reset):
 //   for each new keyframe: cull recent points (found/visible < min_found_ratio, or <= 2 observations two
 //   keyframes after creation), triangulate new points between the keyframe and its num_triangulation_neighbors
 //   best covisible keyframes (unmatched keypoints, Hamming <= match_threshold_low, epipolar check on bearings,
@@ -99,6 +101,10 @@ struct TrackerParams {
   int max_frames_between_keyframes = 20;
   // ---- local mapping ----
   bool mapping_thread = true;           // false: mapping runs synchronously inside track() (deterministic)
+  int starving_inliers = 60;            // keyframe inserted with fewer inliers: track() waits (<= 200 ms) until its
+                                        // new points are triangulated (never for BA)
+  int sync_mapping_busy_frames = 3;     // mapping_thread = false: the keyframe policy treats mapping as busy for
+                                        // this many frames after a keyframe (emulates the threaded keyframe rate)
   int num_triangulation_neighbors = 6;
   double min_triangulation_parallax_deg = 1.0;
   double min_found_ratio = 0.25;
