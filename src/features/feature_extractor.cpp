@@ -281,7 +281,7 @@ FeatureFrame FeatureExtractor::extract(const cv::Mat& gray8, double stamp, const
     // >= its cell's threshold. This is exactly FAST at the cell threshold: a corner at threshold t is a
     // corner at any t' < t with score >= t, and non-max suppression only compares corners' scores.
     // T_s is chosen per strip (cost model below) so a few low-threshold cells do not make FAST scan the
-    // whole strip at a low threshold; cells below T_s get their own call (ORB-SLAM style).
+    // whole strip at a low threshold; runs of cells below T_s get their own call.
     // Empty cells are retried at retry_th (ORB-SLAM's minThFAST retry). Each pixel belongs to one cell,
     // so unlike ORB-SLAM's overlapping ROIs no corner is reported twice.
     candidates.clear();
@@ -346,11 +346,33 @@ FeatureFrame FeatureExtractor::extract(const cv::Mat& gray8, double stamp, const
         candidates.push_back(kp);
         ++cell_count_[j];
       }
+      // Cells below T_s: one call per run of adjacent such cells, at the run's lowest threshold, every
+      // corner again filtered by its own cell's threshold.
+      for (int j = 0; j < n_cols;) {
+        if (cell_th_[j] < 0 || cell_th_[j] >= t_strip) {
+          ++j;
+          continue;
+        }
+        int j1 = j, t_run = cell_th_[j];
+        while (j1 + 1 < n_cols && cell_th_[j1 + 1] >= 0 && cell_th_[j1 + 1] < t_strip) t_run = std::min(t_run, cell_th_[++j1]);
+        const int ini_x = min_border + j * w_cell;
+        const int max_x = std::min(min_border + (j1 + 1) * w_cell + 6, max_bx);
+        cv::FAST(img(cv::Rect(ini_x, ini_y, max_x - ini_x, max_y - ini_y)), cell_kps, t_run, true);
+        for (cv::KeyPoint& kp : cell_kps) {
+          kp.pt.x += ini_x;
+          kp.pt.y += ini_y;
+          const int jj = std::min(j1, std::max(j, static_cast<int>(kp.pt.x - min_border - 3) / w_cell));
+          if (kp.response < cell_th_[jj]) continue;
+          kp.class_id = cell_th_[jj];
+          candidates.push_back(kp);
+          ++cell_count_[jj];
+        }
+        j = j1 + 1;
+      }
       for (int j = 0; j < n_cols; ++j) {
         const int th = cell_th_[j];
         if (th < 0) continue;
         const int ini_x = min_border + j * w_cell;
-        if (th < t_strip) fast_cell(ini_x, ini_y, max_y, th, &cell_count_[j]);  // below the strip threshold
         if (cell_count_[j] > 0 || th_retry >= th) continue;
         ++st.cells_retried;
         if (t_strip <= th_retry) {  // the strip scan already holds the retry corners of this cell
