@@ -1,9 +1,11 @@
 // Camera models shared by every stage (simulator, tracker, BA, evaluation).
 // ROS-free. Implementations: PinholeRadtan (EuRoC cam0) and KannalaBrandt (TUM-VI cam0, equidistant).
+// Construction from files: iraf_vo/camera/camera_loader.h (loadCamera, makeCamera).
 #pragma once
 
 #include <Eigen/Core>
 #include <memory>
+#include <opencv2/core/types.hpp>
 #include <string>
 #include <vector>
 
@@ -30,11 +32,25 @@ class CameraModel {
   /// Undistort a pixel to normalized image coordinates (x/z, y/z). Fails for rays with z <= 0.
   bool undistortToNormalized(const Eigen::Vector2d& uv, Eigen::Vector2d* xy) const;
 
+  /// Batch undistortToNormalized. xy gets one entry per input (0,0 where it failed); valid (optional)
+  /// gets 1/0 per point. Returns the number of points that undistorted successfully.
+  size_t undistortPoints(const std::vector<Eigen::Vector2d>& uv, std::vector<Eigen::Vector2d>* xy,
+                         std::vector<unsigned char>* valid = nullptr) const;
+  /// Same for OpenCV keypoint coordinates (e.g. cv::KeyPoint::pt); output in normalized coordinates.
+  size_t undistortPoints(const std::vector<cv::Point2f>& uv, std::vector<cv::Point2f>* xy,
+                         std::vector<unsigned char>* valid = nullptr) const;
+
+  /// True when uv lies inside [border, width-1-border] x [border, height-1-border].
+  bool isInImage(const Eigen::Vector2d& uv, double border = 0.0) const;
+
   /// Intrinsic parameters in the model's own order (fx fy cx cy, then distortion), for BA.
   virtual std::vector<double> parameters() const = 0;
 
   /// Focal length in pixels (mean of fx, fy): converts pixel thresholds to angles.
   virtual double focal() const = 0;
+
+  /// One-line human-readable summary: model, resolution, parameters.
+  std::string describe() const;
 
   /// 4x4 row-major T_BS (sensor to body), identity when the file has none.
   Eigen::Matrix4d T_BS = Eigen::Matrix4d::Identity();
