@@ -1,6 +1,6 @@
 // iraf_vo_bench_frontend: timing of the front-end (enhancement + feature stage) on an ASL/EuRoC folder.
 //
-//   iraf_vo_bench_frontend --dataset DIR [--frames N] [--mu-expected MU]
+//   iraf_vo_bench_frontend --dataset DIR [--frames N] [--mu-expected MU] [--params FILE.yaml]
 //
 // DIR is an ASL folder (DIR/mav0/cam0/data.csv + data/*.png). Single thread (cv::setNumThreads(0)).
 // Images are loaded first; then, frame by frame (interleaved so machine load hits all variants alike):
@@ -8,6 +8,10 @@
 //   all-off   our pipeline with every IRAF module off (no enhancement, fixed FAST 20/7, no culling)
 //   all-on    Enhancer (iraf) + FeatureExtractor (adaptive threshold + culling)
 // Prints the median ms per stage and the ratios all-on / orb and all-on / all-off.
+// --params: FeatureParams for all-on from the file's `features:` section (or its root map); all-off uses the
+// same params with adaptive_threshold and culling off.
+#include <yaml-cpp/yaml.h>
+
 #include <opencv2/core/utility.hpp>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -74,7 +78,7 @@ bool readAsl(const std::string& dir, int max_frames, std::vector<cv::Mat>* image
 }
 
 void usage() {
-  std::cerr << "usage: iraf_vo_bench_frontend --dataset DIR [--frames N] [--mu-expected MU]\n"
+  std::cerr << "usage: iraf_vo_bench_frontend --dataset DIR [--frames N] [--mu-expected MU] [--params FILE.yaml]\n"
                "  DIR: ASL folder (DIR/mav0/cam0/data.csv); N: frames to time (default 200)\n";
 }
 
@@ -84,6 +88,7 @@ int main(int argc, char** argv) {
   std::string dataset;
   int frames = 200;
   double mu_expected = -1.0;
+  std::string params_file;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() -> std::string {
@@ -97,6 +102,7 @@ int main(int argc, char** argv) {
       if (a == "--dataset") dataset = next();
       else if (a == "--frames") frames = std::stoi(next());
       else if (a == "--mu-expected") mu_expected = std::stod(next());
+      else if (a == "--params") params_file = next();
       else if (a == "-h" || a == "--help") {
         usage();
         return 0;
@@ -127,8 +133,21 @@ int main(int argc, char** argv) {
   EnhanceParams ep;  // iraf
   if (mu_expected > 0) ep.mu_expected = mu_expected;
   FeatureExtractor fx_on, fx_off;
-  const FeatureParams on;
-  FeatureParams off;
+  FeatureParams on;
+  if (!params_file.empty()) {
+    try {
+      const YAML::Node root = YAML::LoadFile(params_file);
+      const YAML::Node node = root.IsMap() && root["features"] ? root["features"] : root;
+      if (!loadFeatureParams(node, &on, &err)) {
+        std::cerr << "iraf_vo_bench_frontend: " << params_file << ": " << err << "\n";
+        return 1;
+      }
+    } catch (const YAML::Exception& e) {
+      std::cerr << "iraf_vo_bench_frontend: cannot read " << params_file << ": " << e.what() << "\n";
+      return 1;
+    }
+  }
+  FeatureParams off = on;
   off.adaptive_threshold = false;
   off.culling = false;
 
