@@ -12,6 +12,8 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "iraf_vo/camera/camera_loader.h"
+#include "iraf_vo/io/image_folder.h"
+#include "iraf_vo/io/trajectory.h"
 #include "iraf_vo/sim/photometric.h"
 #include "iraf_vo/sim/sequence.h"
 
@@ -95,6 +97,18 @@ TEST(SimSequence, WritesAslFolderAndTumGroundTruth) {
   EXPECT_NEAR(q.norm(), 1.0, 1e-8);
   EXPECT_LT(Eigen::AngleAxisd(q.toRotationMatrix().transpose() * T.linear()).angle(), 1e-7);
   EXPECT_EQ(dataLines(out + "/events.csv").size(), ph.events.size());
+
+  // The project's own readers (io/) accept the output: ASL folder with its camera, TUM ground truth.
+  iraf_vo::AslImageReader reader;
+  ASSERT_TRUE(reader.open(out, &err)) << err;
+  EXPECT_EQ(reader.size(), 6u);
+  EXPECT_TRUE(reader.warnings().empty());
+  ASSERT_TRUE(reader.loadCamera(&err)) << err;
+  iraf_vo::Trajectory traj;
+  ASSERT_TRUE(iraf_vo::readTumTrajectory(out + "/groundtruth.txt", &traj, &err)) << err;
+  ASSERT_EQ(traj.size(), 6u);
+  EXPECT_NEAR(traj.stamps[2] - traj.stamps[0], 0.1, 1e-6);
+  EXPECT_LT((traj.poses[2].translation() - T.translation()).norm(), 1e-8);
 }
 
 /// A tiny ASL sequence: n images (one row without its file), ground truth folders, sensor.yaml.
