@@ -201,7 +201,8 @@ void Renderer::renderSpan(const Eigen::Matrix3f& R, const Eigen::Vector3f& o, in
   // Pass 1: world directions, room exit (nearest of the three faces the ray points to).
   for (int i = 0; i < N; ++i) {
     const float b0 = bxp[i], b1 = byp[i], b2 = bzp[i];  // arrays padded by kTile: no bounds branch
-    const float x = r00 * b0 + r01 * b1 + r02 * b2, y = r10 * b0 + r11 * b1 + r12 * b2, z = r20 * b0 + r21 * b1 + r22 * b2;
+    float x = r00 * b0 + r01 * b1 + r02 * b2, y = r10 * b0 + r11 * b1 + r12 * b2, z = r20 * b0 + r21 * b1 + r22 * b2;
+    x = x == 0.f ? 1e-20f : x, y = y == 0.f ? 1e-20f : y, z = z == 0.f ? 1e-20f : z;  // as Scene::castRay
     dx[i] = x, dy[i] = y, dz[i] = z, bz[i] = b2;
     ix[i] = 1.f / x, iy[i] = 1.f / y, iz[i] = 1.f / z;
     const float tx = ((x > 0 ? hix : lox) - ox) * ix[i];
