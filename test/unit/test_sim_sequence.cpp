@@ -53,6 +53,7 @@ TEST(SimSequence, WritesAslFolderAndTumGroundTruth) {
   auto scene = std::make_shared<const iraf_vo::Scene>(iraf_vo::Scene::makeDefaultRoom(sp));
   iraf_vo::SimParams params;
   params.frames = 6;
+  params.write_depth = true;
   iraf_vo::Renderer r(cam, scene, params);
   iraf_vo::PhotometricParams ph;
   ASSERT_TRUE(iraf_vo::photometricPreset("mixed", params.frames, false, 1, &ph));
@@ -64,6 +65,15 @@ TEST(SimSequence, WritesAslFolderAndTumGroundTruth) {
                                         &err))
       << err;
   EXPECT_EQ(calls, 6);
+  // Depth maps (mm) agree with castPixel.
+  ASSERT_EQ(dataLines(out + "/mav0/depth0/data.csv").size(), 6u);
+  const cv::Mat dmm = cv::imread(out + "/mav0/depth0/data/1000000000050000000.png", cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(dmm.type(), CV_16UC1);
+  Eigen::Vector3d p_W;
+  double depth_m = 0;
+  ASSERT_TRUE(r.castPixel(iraf_vo::trajectoryPose(iraf_vo::TrajectoryParams(), 0.05), Eigen::Vector2d(64, 40), &p_W,
+                          &depth_m));
+  EXPECT_NEAR(dmm.at<uint16_t>(40, 64), depth_m * 1000.0, 1.0);
   const auto rows = dataLines(out + "/mav0/cam0/data.csv");
   ASSERT_EQ(rows.size(), 6u);
   EXPECT_EQ(rows[1], "1000000000050000000,1000000000050000000.png");  // 20 Hz, ns
