@@ -202,7 +202,7 @@ void Renderer::renderSpan(const Eigen::Matrix3f& R, const Eigen::Vector3f& o, in
   for (int i = 0; i < N; ++i) {
     const float b0 = bxp[i], b1 = byp[i], b2 = bzp[i];  // arrays padded by kTile: no bounds branch
     float x = r00 * b0 + r01 * b1 + r02 * b2, y = r10 * b0 + r11 * b1 + r12 * b2, z = r20 * b0 + r21 * b1 + r22 * b2;
-    x = x == 0.f ? 1e-20f : x, y = y == 0.f ? 1e-20f : y, z = z == 0.f ? 1e-20f : z;  // as Scene::castRay
+    x += std::copysign(1e-20f, x), y += std::copysign(1e-20f, y), z += std::copysign(1e-20f, z);  // as castRay
     dx[i] = x, dy[i] = y, dz[i] = z, bz[i] = b2;
     ix[i] = 1.f / x, iy[i] = 1.f / y, iz[i] = 1.f / z;
     const float tx = ((x > 0 ? hix : lox) - ox) * ix[i];
@@ -244,28 +244,33 @@ void Renderer::renderSpan(const Eigen::Matrix3f& R, const Eigen::Vector3f& o, in
   const float* __restrict fpp = footprint_.data() + p0;
   const float uo_x = 0.5f * ext.y(), uo_y = 0.5f * ext.x(), vo_wall = ext.z(), vo_floor = 0.5f * ext.y();
   for (int i = 0; i < N; ++i) {
-    // Face selection by 0/1 weights (arithmetic instead of branches: vectorizes).
-    const int a = axis[i];
-    const float e0 = static_cast<float>(a == 0), e1 = static_cast<float>(a == 1), e2 = 1.f - e0 - e1;
+    // Face selection by 0/1 weights and min/max written with fabs/copysign: no comparisons, so the loop
+    // vectorizes under the default -ftrapping-math.
+    const int a = axis[i];  // 0, 1, 2 -> weights by integer arithmetic
+    const float e0 = static_cast<float>(((a - 1) * (a - 2)) >> 1), e1 = static_cast<float>(a * (2 - a)),
+                e2 = 1.f - e0 - e1;
+    const float af = e1 + 2.f * e2;
     const float tt = t[i];
     const float px = ox + tt * dx[i], py = oy + tt * dy[i], pz = oz + tt * dz[i];
     const float da = e0 * dx[i] + e1 * dy[i] + e2 * dz[i];
-    const float nsgn = static_cast<float>(da <= 0) * 2.f - 1.f;  // normal faces the ray origin
+    const float nsgn = -std::copysign(1.f, da);  // normal faces the ray origin (da != 0)
     // u = p . (up x n) on walls, x on floor/ceiling; v = -z on walls, n * y on floor/ceiling.
     float uu = e0 * nsgn * py - e1 * nsgn * px + e2 * px;
     float vv = e2 * nsgn * py - (1.f - e2) * pz;
-    const float room = static_cast<float>(surf[i] < 6);
-    const float sf = static_cast<float>(surf[i]), af = static_cast<float>(a);
+    const float room = static_cast<float>(((5 - surf[i]) >> 31) + 1);  // 1 for room faces (surf < 6)
+    const float sf = static_cast<float>(surf[i]);
     uu += room * (e0 * uo_x + (1.f - e0) * uo_y) + (1.f - room) * 0.37f * (sf + af);
     vv += room * (e2 * vo_floor + (1.f - e2) * vo_wall) + (1.f - room) * 0.23f * (sf + 2.f * af);
     u[i] = uu, v[i] = vv;
     const float Lx = lx - px, Ly = ly - py, Lz = lz - pz;
     const float d2 = Lx * Lx + Ly * Ly + Lz * Lz;
     const float ndotl = nsgn * (e0 * Lx + e1 * Ly + e2 * Lz);
-    const float cosang = std::max(0.f, ndotl) * rsqrt(d2 + 1e-12f);
-    const float direct = std::min(1.f, cosang * 1.6f / (1.f + d2 * (1.f / 9.f)));
+    const float cosang = 0.5f * (ndotl + std::fabs(ndotl)) * rsqrt(d2 + 1e-12f);  // max(0, n.l) / |l|
+    const float lin = cosang * 1.6f / (1.f + d2 * (1.f / 9.f));
+    const float direct = 0.5f * (lin + 1.f - std::fabs(lin - 1.f));  // min(1, lin)
     shade[i] = amb + (1.f - amb) * direct;
-    const float cosi = std::max(0.05f, std::abs(da));
+    const float ada = std::fabs(da);
+    const float cosi = 0.5f * (ada + 0.05f + std::fabs(ada - 0.05f));  // max(0.05, |da|)
     fp[i] = tt * fpp[i] * tpm * rsqrt(cosi);
   }
   // Pass 4: texture reads (gathers), output.
