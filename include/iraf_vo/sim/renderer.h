@@ -82,6 +82,7 @@ class Renderer {
   int tiles_x_ = 0, tiles_y_ = 0;
   std::vector<Eigen::Vector3f> tile_axis_;
   std::vector<float> tile_half_angle_;
+  float max_lod_ = 0.f;  // span renderer: LOD bound valid for every texture of the scene
 };
 
 }  // namespace iraf_vo

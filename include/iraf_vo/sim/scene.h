@@ -27,6 +27,9 @@ class SceneTexture {
   float sample(float u_m, float v_m, float footprint_texels) const;
   /// Bilinear sample of one mip level (level clamped to the pyramid).
   float sampleLevel(float u_m, float v_m, int level) const;
+  /// Bilinear sample of level `level` (must exist) at precomputed texel indices (any int, wrapped) and
+  /// fractions: the renderer computes the coordinates in vectorized loops.
+  float fetch(int level, int x0, int y0, float fx, float fy) const;
 
   float texelsPerMeter() const { return texels_per_m_; }
   int levels() const { return static_cast<int>(levels_.size()); }
@@ -144,6 +147,16 @@ inline float SceneTexture::sampleLevel(float u_m, float v_m, int level) const {
   const int x0 = detail::fastFloor(x), y0 = detail::fastFloor(y);
   const float fx = x - static_cast<float>(x0), fy = y - static_cast<float>(y0);
   const int xa = x0 & m.wmask, xb = (x0 + 1) & m.wmask;  // power of two: & wraps (also negative ints)
+  const uint8_t* r0 = m.data + m.step * static_cast<size_t>(y0 & m.hmask);
+  const uint8_t* r1 = m.data + m.step * static_cast<size_t>((y0 + 1) & m.hmask);
+  const float top = r0[xa] + fx * (static_cast<float>(r0[xb]) - r0[xa]);
+  const float bot = r1[xa] + fx * (static_cast<float>(r1[xb]) - r1[xa]);
+  return (top + fy * (bot - top)) * (1.f / 255.f);
+}
+
+inline float SceneTexture::fetch(int level, int x0, int y0, float fx, float fy) const {
+  const Level& m = view_[level];
+  const int xa = x0 & m.wmask, xb = (x0 + 1) & m.wmask;
   const uint8_t* r0 = m.data + m.step * static_cast<size_t>(y0 & m.hmask);
   const uint8_t* r1 = m.data + m.step * static_cast<size_t>((y0 + 1) & m.hmask);
   const float top = r0[xa] + fx * (static_cast<float>(r0[xb]) - r0[xa]);
