@@ -306,6 +306,11 @@ void Renderer::renderSpan(const Eigen::Matrix3f& R, const Eigen::Vector3f& o, in
     const bool ok = valid[i] && t[i] > 0.f && std::isfinite(t[i]);
     const int s = surf[i];
     const int ti = s < 6 ? s : boxes[s - 6].texture;
+    if (!ok) {
+      out[c0 + i] = 0.f;
+      if (dep) dep[c0 + i] = 0.f;
+      continue;
+    }
     const SceneTexture& tx = tex[ti];
     float albedo;
     if (wb[i] <= 0.f) {
@@ -316,8 +321,8 @@ void Renderer::renderSpan(const Eigen::Matrix3f& R, const Eigen::Vector3f& o, in
       const float a = tx.fetch(lv[i], xi0[i], yi0[i], fx0[i], fy0[i]);
       albedo = a + wb[i] * (tx.fetch(lv[i] + 1, xi1[i], yi1[i], fx1[i], fy1[i]) - a);
     }
-    out[c0 + i] = ok ? albedo * shade[i] * scale : 0.f;
-    if (dep) dep[c0 + i] = ok ? t[i] * bz[i] : 0.f;
+    out[c0 + i] = albedo * shade[i] * scale;
+    if (dep) dep[c0 + i] = t[i] * bz[i];
   }
 }
 
@@ -326,6 +331,13 @@ void Renderer::render(const Eigen::Isometry3d& T_W_C, cv::Mat* radiance, cv::Mat
   if (depth) {
     depth->create(h_, w_, CV_32FC1);
     depth->setTo(0.f);
+  }
+  // A pose that is not finite or outside the room sees nothing (as Scene::castRay): black image.
+  const Eigen::Vector3f o = T_W_C.translation().cast<float>();
+  if (!T_W_C.matrix().allFinite() || (o.array() <= scene_->roomLo().array()).any() ||
+      (o.array() >= scene_->roomHi().array()).any()) {
+    radiance->setTo(0.f);
+    return;
   }
   if (params_.threads == 1) {
     renderTileRows(T_W_C, 0, tiles_y_, radiance, depth);
