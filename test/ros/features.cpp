@@ -15,6 +15,7 @@
 #include <mutex>
 
 #include "common/test_data.h"
+#include "iraf_vo/EnhanceStats.h"
 #include "iraf_vo/Features.h"
 #include "iraf_vo/FeaturesConfig.h"
 #include "iraf_vo/ros/feature_conversion.h"
@@ -23,7 +24,10 @@ namespace enc = sensor_msgs::image_encodings;
 
 class FeatureNodeletTest : public ::testing::Test {
  protected:
-  void SetUp() override { pub_ = nh_.advertise<sensor_msgs::Image>("image_enhanced", 10); }
+  void SetUp() override {
+    pub_ = nh_.advertise<sensor_msgs::Image>("image_enhanced", 10);
+    stats_pub_ = nh_.advertise<iraf_vo::EnhanceStats>("enhance_stats", 10);
+  }
 
   static ros::Time stampOf(uint32_t id) { return ros::Time(2000.0 + id * 0.05); }
   static uint32_t idOf(const ros::Time& t) { return static_cast<uint32_t>(std::lround((t.toSec() - 2000.0) / 0.05)); }
@@ -74,7 +78,7 @@ class FeatureNodeletTest : public ::testing::Test {
   }
 
   ros::NodeHandle nh_;
-  ros::Publisher pub_;
+  ros::Publisher pub_, stats_pub_;
   ros::Subscriber feat_sub_, image_sub_;
   std::mutex mutex_;
   std::map<uint32_t, iraf_vo::FeaturesConstPtr> features_;
@@ -128,6 +132,21 @@ TEST_F(FeatureNodeletTest, FeaturesOutStampsSizesBadInputAndLiveTuning) {
   {
     std::lock_guard<std::mutex> l(mutex_);
     EXPECT_EQ(features_[1]->x, features_[2]->x) << "mono8 and bgr8 of the same image differ";
+    EXPECT_EQ(features_[1]->brightness, 0) << "no EnhanceStats was published: unknown = 0";
+  }
+
+  // The enhancement class is taken from enhance_stats with the same stamp.
+  ASSERT_TRUE(waitFor([&] { return stats_pub_.getNumSubscribers() > 0; }, 5.0)) << "no enhance_stats subscription";
+  {
+    const uint32_t dim_id = id++;
+    iraf_vo::EnhanceStats st;
+    st.header.stamp = stampOf(dim_id);
+    st.brightness = iraf_vo::EnhanceStats::BRIGHTNESS_DIM;
+    stats_pub_.publish(st);
+    ros::WallDuration(0.2).sleep();
+    const auto f = roundTrip(img, enc::MONO8, dim_id);
+    ASSERT_TRUE(f);
+    EXPECT_EQ(f->brightness, iraf_vo::EnhanceStats::BRIGHTNESS_DIM);
   }
 
   // Bad input is dropped; the next good frame still arrives.
