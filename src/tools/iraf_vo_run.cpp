@@ -280,6 +280,11 @@ int main(int argc, char** argv) {
     }
 
   // ---- input ----
+  struct stat ds;
+  if (stat(dataset.c_str(), &ds) != 0) {
+    std::fprintf(stderr, "iraf_vo_run: --dataset %s: no such file or folder\n", dataset.c_str());
+    return 1;
+  }
   const bool is_bag = !isDirectory(dataset);
   iraf_vo::AslImageReader asl;
   iraf_vo::BagImageReader bag;

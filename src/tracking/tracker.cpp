@@ -1063,8 +1063,46 @@ struct Tracker::Impl {
     }
   }
 
+  // ORB-SLAM's distinctive descriptor: of all observations of a point, the one with the least median Hamming
+  // distance to the others. Updated for the points seen by a new keyframe.
+  void updateDescriptors(long kf_id) {
+    std::lock_guard<std::mutex> lk(map_mutex);
+    auto k = kfs.find(kf_id);
+    if (k == kfs.end()) return;
+    std::vector<const uint8_t*> d;
+    std::vector<int> dist;
+    for (long pid : k->second->point_id) {
+      if (pid < 0) continue;
+      auto pt = pts.find(pid);
+      if (pt == pts.end() || pt->second->obs.size() < 3) continue;
+      d.clear();
+      for (const auto& o : pt->second->obs) {
+        auto ko = kfs.find(o.first);
+        if (ko != kfs.end()) d.push_back(ko->second->desc.ptr<uint8_t>(o.second));
+      }
+      const size_t n = d.size();
+      if (n < 3) continue;
+      dist.assign(n * n, 0);
+      for (size_t i = 0; i < n; ++i)
+        for (size_t j = i + 1; j < n; ++j) dist[i * n + j] = dist[j * n + i] = hamming(d[i], d[j]);
+      int best = 1 << 30;
+      size_t best_i = 0;
+      std::vector<int> row(n);
+      for (size_t i = 0; i < n; ++i) {
+        std::copy(dist.begin() + i * n, dist.begin() + (i + 1) * n, row.begin());
+        std::nth_element(row.begin(), row.begin() + n / 2, row.end());
+        if (row[n / 2] < best) {
+          best = row[n / 2];
+          best_i = i;
+        }
+      }
+      std::memcpy(pt->second->desc.data(), d[best_i], 32);
+    }
+  }
+
   void processKeyframe(long kf_id, bool run_ba) {
     cullRecentPoints(kf_id);
+    updateDescriptors(kf_id);
     triangulateNew(kf_id);
     if (p.mapping_thread) {
       {
