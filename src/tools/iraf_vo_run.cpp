@@ -31,6 +31,7 @@
 #include <mutex>
 #include <sstream>
 #include <string>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <thread>
 #include <vector>
@@ -280,6 +281,11 @@ int main(int argc, char** argv) {
     }
 
   // ---- input ----
+  struct stat ds;
+  if (stat(dataset.c_str(), &ds) != 0) {
+    std::fprintf(stderr, "iraf_vo_run: --dataset %s: no such file or folder\n", dataset.c_str());
+    return 1;
+  }
   const bool is_bag = !isDirectory(dataset);
   iraf_vo::AslImageReader asl;
   iraf_vo::BagImageReader bag;
@@ -474,12 +480,18 @@ int main(int argc, char** argv) {
   const size_t n_points = tracker.mapPoints().size();
   const double tracked_pct = st.frames > 0 ? 100.0 * st.tracked / st.frames : 0.0;
   const double fps = processed / std::max(wall, 1e-9);
+  struct rusage ru;
+  getrusage(RUSAGE_SELF, &ru);
+  const double cpu_s = ru.ru_utime.tv_sec + ru.ru_stime.tv_sec + 1e-6 * (ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
+  const double cpu_ms_per_frame = 1000.0 * cpu_s / std::max<long>(1, processed);
   std::ostringstream summary;
   summary << "frames " << st.frames << ", tracked " << st.tracked << " (" << tracked_pct << " %), lost frames "
           << st.lost_frames << ", lost events " << st.lost_events << ", resets " << st.resets << ", keyframes "
           << st.keyframes << ", map points " << n_points << ", BA runs " << st.ba_runs << " (mean "
           << (st.ba_runs ? st.ba_ms_total / st.ba_runs : 0.0) << " ms)\n";
-  summary << "wall " << wall << " s, " << fps << " fps (front-end and tracking threads in parallel)\n";
+  summary << "wall " << wall << " s, " << fps << " fps (reader, front-end, tracking and mapping threads in parallel); CPU "
+          << cpu_s << " s = " << cpu_ms_per_frame << " ms/frame (all threads) -> <= " << 2000.0 / cpu_ms_per_frame
+          << " fps on 2 idle cores\n";
   summary << "per stage [ms] median / 95% / mean:\n";
   for (const auto& kv : ms) {
     const Percentiles p = percentiles(kv.second);
@@ -517,7 +529,7 @@ int main(int argc, char** argv) {
        << ",\n  \"tracked\": " << st.tracked << ",\n  \"tracked_pct\": " << tracked_pct
        << ",\n  \"lost_frames\": " << st.lost_frames << ",\n  \"lost_events\": " << st.lost_events
        << ",\n  \"resets\": " << st.resets << ",\n  \"keyframes\": " << st.keyframes << ",\n  \"map_points\": "
-       << n_points << ",\n  \"read_errors\": " << errors << ",\n  \"fps\": " << fps << ",\n  \"ms\": {";
+       << n_points << ",\n  \"read_errors\": " << errors << ",\n  \"fps\": " << fps << ",\n  \"cpu_ms_per_frame\": " << cpu_ms_per_frame << ",\n  \"ms\": {";
     bool firstk = true;
     for (const auto& kv : ms) {
       const Percentiles p = percentiles(kv.second);

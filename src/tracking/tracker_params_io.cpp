@@ -75,6 +75,10 @@ const std::map<std::string, Setter>& setters() {
     IRAF_INT(ba_max_num_iterations)
     IRAF_DBL(ba_max_solver_time_in_seconds)
     IRAF_DBL(ba_huber_delta)
+    IRAF_BOOL(ba_abort_on_keyframe)
+    IRAF_DBL(ba_min_fixed_span)
+    IRAF_INT(ba_every_keyframes)
+    IRAF_INT(max_pending_keyframes)
     IRAF_INT(lost_frames_before_reset)
 #undef IRAF_INT
 #undef IRAF_DBL

@@ -196,6 +196,52 @@ TEST_F(FeatureNodeletTest, FeaturesOutStampsSizesBadInputAndLiveTuning) {
   EXPECT_LT(after->x.size(), before->x.size());
 }
 
+TEST(FeatureConversion, RoundTripAndInconsistentMessages) {
+  iraf_vo::FeatureFrame f;
+  f.width = 64;
+  f.height = 48;
+  f.keypoints = {cv::KeyPoint(10.5f, 20.25f, 37.2f, 123.f, 55.f, 1, 17), cv::KeyPoint(30.f, 40.f, 31.f, 5.f, 9.f, 0, 7)};
+  f.descriptors = cv::Mat(2, 32, CV_8U);
+  cv::randu(f.descriptors, 0, 256);
+  f.stability = {0.9f, 0.45f};
+  f.stats.global_threshold = 19.5;
+  f.stats.culled = 3;
+  f.stats.detected = 5;
+  f.stats.brightness = -1;
+  std_msgs::Header h;
+  h.stamp = ros::Time(12.5);
+  iraf_vo::Features m;
+  iraf_vo::toMsg(f, h, &m);
+  iraf_vo::FeatureFrame g;
+  std::string err;
+  ASSERT_TRUE(iraf_vo::fromMsg(m, &g, &err)) << err;
+  EXPECT_DOUBLE_EQ(g.stamp, 12.5);
+  EXPECT_EQ(g.width, 64);
+  ASSERT_EQ(g.keypoints.size(), 2u);
+  EXPECT_EQ(g.keypoints[0].pt, f.keypoints[0].pt);
+  EXPECT_FLOAT_EQ(g.keypoints[0].angle, 123.f);
+  EXPECT_EQ(g.keypoints[0].octave, 1);
+  EXPECT_EQ(g.keypoints[0].class_id, 17);
+  EXPECT_EQ(cv::norm(g.descriptors, f.descriptors, cv::NORM_INF), 0.0);
+  EXPECT_EQ(g.stability, f.stability);
+  EXPECT_DOUBLE_EQ(g.stats.global_threshold, 19.5);
+  EXPECT_EQ(g.stats.culled, 3);
+  EXPECT_EQ(g.stats.brightness, -1);
+
+  iraf_vo::Features bad = m;
+  bad.y.pop_back();
+  EXPECT_FALSE(iraf_vo::fromMsg(bad, &g, &err));
+  EXPECT_NE(err.find("differ in length"), std::string::npos) << err;
+  bad = m;
+  bad.descriptors.resize(40);
+  EXPECT_FALSE(iraf_vo::fromMsg(bad, &g, &err));
+  EXPECT_NE(err.find("descriptors"), std::string::npos) << err;
+  bad = m;
+  bad.x[1] = std::nanf("");
+  EXPECT_FALSE(iraf_vo::fromMsg(bad, &g, &err));
+  EXPECT_NE(err.find("non-finite"), std::string::npos) << err;
+}
+
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   ros::init(argc, argv, "feature_nodelet_test");

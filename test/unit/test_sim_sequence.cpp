@@ -2,6 +2,8 @@
 // iraf_vo_degrade keeping ground truth, calibration and the image count (missing images skipped).
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -21,8 +23,19 @@ namespace fs = std::filesystem;
 
 namespace {
 
+/// Per-process temp prefix so parallel runs (ctest -j, plain + sanitizer builds) never share files;
+/// removed at exit (same convention as the other test binaries).
+inline std::string tmpRoot() {
+  return (testing::TempDir().empty() ? std::string("/tmp/") : testing::TempDir()) + "iraf_vo_" +
+         std::to_string(::getpid()) + "_";
+}
+struct TmpCleanup : testing::Environment {
+  void TearDown() override { std::system(("rm -rf " + tmpRoot() + "*").c_str()); }
+};
+const testing::Environment* const kTmpCleanup = testing::AddGlobalTestEnvironment(new TmpCleanup);
+
 std::string freshDir(const std::string& name) {
-  const std::string d = ::testing::TempDir() + "/iraf_vo_sim_" + name;
+  const std::string d = tmpRoot() + "sim_" + name;
   fs::remove_all(d);
   return d;
 }

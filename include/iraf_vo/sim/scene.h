@@ -1,7 +1,7 @@
 // Textured 3D scene of the simulator: the inside of a room (axis-aligned box, z up, floor at z = 0)
 // plus axis-aligned boxes/pillars standing in it. Rays are intersected analytically (slab test), the
-// surface texture is sampled with trilinear mipmapping (level chosen from the pixel footprint), and a
-// smooth Lambertian shading from a ceiling light is applied. ROS-free.
+// surface texture is sampled with mipmapping (level chosen from the pixel footprint; two levels blended
+// around LOD mid-steps), and a smooth Lambertian shading from a ceiling light is applied. ROS-free.
 #pragma once
 
 #include <Eigen/Core>
@@ -22,8 +22,8 @@ class SceneTexture {
   /// `albedo` must be CV_8UC1 with power-of-two width and height; `texels_per_m` maps meters to texels.
   SceneTexture(const cv::Mat& albedo, float texels_per_m);
 
-  /// Trilinear sample in [0,1] at surface coordinates (u, v) in meters; `footprint_texels` is the
-  /// size of the pixel's footprint on the surface in level-0 texels (selects the mip level).
+  /// Mipmapped ("brilinear") sample in [0,1] at surface coordinates (u, v) in meters; `footprint_texels`
+  /// is the size of the pixel's footprint on the surface in level-0 texels (selects the mip level).
   float sample(float u_m, float v_m, float footprint_texels) const;
   /// Bilinear sample of one mip level (level clamped to the pyramid).
   float sampleLevel(float u_m, float v_m, int level) const;
@@ -168,8 +168,9 @@ inline float SceneTexture::sample(float u_m, float v_m, float footprint_texels) 
   if (!(footprint_texels > 1.f)) return sampleLevel(u_m, v_m, 0);
   const float lod = std::min(detail::fastLog2(footprint_texels), max_lod_);
   const int l0 = static_cast<int>(lod);
-  // "Brilinear": blend two levels only for a fractional LOD in [0.3, 0.7] (remapped to [0, 1]),
-  // nearest level elsewhere; continuous in the LOD, half the texture reads of trilinear.
+  // "Brilinear": blend two levels only for a fractional LOD in [0.3, 0.7] (remapped to [0, 1]), the
+  // nearest level elsewhere; continuous in the LOD, fewer texture reads than trilinear. The renderer's
+  // span path computes the same level/weight/coordinates in vectorized form (Renderer::renderSpan).
   const float f = std::min(1.f, std::max(0.f, 2.5f * (lod - static_cast<float>(l0)) - 0.75f));
   if (f <= 0.f) return sampleLevel(u_m, v_m, l0);
   if (f >= 1.f) return sampleLevel(u_m, v_m, l0 + 1);
