@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -196,6 +197,71 @@ bool AslImageReader::next(ImageEntry* entry, cv::Mat* gray) {
     warnings_.push_back(err + ", skipped");
   }
   return false;
+}
+
+bool AslImageWriter::open(const std::string& dir, std::string* error, const CameraModel* camera,
+                          const std::string& camera_name) {
+  n_ = 0;
+  last_stamp_ = -1;
+  csv_.close();
+  cam_dir_ = stripSlash(dir) + "/mav0/" + camera_name;
+  std::error_code ec;
+  std::filesystem::create_directories(cam_dir_ + "/data", ec);
+  if (ec) {
+    if (error) *error = cam_dir_ + "/data: cannot create directory: " + ec.message();
+    return false;
+  }
+  csv_.open(cam_dir_ + "/data.csv", std::ios::trunc);
+  if (!csv_) {
+    if (error) *error = cam_dir_ + "/data.csv: cannot open for writing";
+    return false;
+  }
+  csv_ << "#timestamp [ns],filename\n";
+  if (camera) {
+    std::string err;
+    if (!saveCamera(*camera, cam_dir_ + "/sensor.yaml", &err)) {
+      if (error) *error = err;
+      return false;
+    }
+  }
+  return true;
+}
+
+bool AslImageWriter::write(int64_t stamp_ns, const cv::Mat& image, std::string* error) {
+  if (!csv_.is_open()) {
+    if (error) *error = "AslImageWriter: not open";
+    return false;
+  }
+  if (image.empty() || (image.depth() != CV_8U && image.depth() != CV_16U) ||
+      (image.channels() != 1 && image.channels() != 3 && image.channels() != 4)) {
+    if (error) *error = cam_dir_ + ": image for stamp " + std::to_string(stamp_ns) + " is empty or not 8/16-bit 1/3/4-channel";
+    return false;
+  }
+  if (stamp_ns <= last_stamp_) {
+    if (error) *error = cam_dir_ + ": stamp " + std::to_string(stamp_ns) + " ns not after the previous " + std::to_string(last_stamp_);
+    return false;
+  }
+  const std::string name = std::to_string(stamp_ns) + ".png";
+  const std::string path = cam_dir_ + "/data/" + name;
+  bool ok = false;
+  try {
+    ok = cv::imwrite(path, image);
+  } catch (const cv::Exception& e) {
+    ok = false;
+  }
+  if (!ok) {
+    if (error) *error = path + ": cannot write image";
+    return false;
+  }
+  csv_ << stamp_ns << "," << name << "\n";
+  csv_.flush();
+  if (!csv_) {
+    if (error) *error = cam_dir_ + "/data.csv: write failed";
+    return false;
+  }
+  last_stamp_ = stamp_ns;
+  ++n_;
+  return true;
 }
 
 }  // namespace iraf_vo

@@ -1,6 +1,7 @@
 // Bag round trip: a temp ASL folder written here -> rosbag (aslToBag and the iraf_vo_asl_to_bag tool) ->
 // BagImageReader; pixels and stamps must come back exactly. Bad bags give errors, never crashes.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <fstream>
@@ -14,10 +15,20 @@
 
 using namespace iraf_vo;
 
+/// Per-process temp prefix so parallel runs (ctest -j, plain + sanitizer builds) never share files.
+inline std::string tmpRoot() {
+  return (testing::TempDir().empty() ? std::string("/tmp/") : testing::TempDir()) + "iraf_vo_" +
+         std::to_string(::getpid()) + "_";
+}
+struct TmpCleanup : testing::Environment {
+  void TearDown() override { std::system(("rm -rf " + tmpRoot() + "*").c_str()); }
+};
+const testing::Environment* const kTmpCleanup = testing::AddGlobalTestEnvironment(new TmpCleanup);
+
 namespace {
 
 std::string tmpDir(const std::string& name) {
-  const std::string d = (testing::TempDir().empty() ? std::string("/tmp/") : testing::TempDir()) + "iraf_vo_bag_" + name;
+  const std::string d = tmpRoot() + "iraf_vo_bag_" + name;
   std::system(("rm -rf '" + d + "' && mkdir -p '" + d + "'").c_str());
   return d;
 }

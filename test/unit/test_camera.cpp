@@ -1,5 +1,8 @@
 // Camera models: round trip, analytic Jacobians, agreement with OpenCV, yaml loading and error reporting.
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdlib>
 
 #include <cmath>
 #include <cstdio>
@@ -13,6 +16,16 @@
 
 using namespace iraf_vo;
 
+/// Per-process temp prefix so parallel runs (ctest -j, plain + sanitizer builds) never share files.
+inline std::string tmpRoot() {
+  return (testing::TempDir().empty() ? std::string("/tmp/") : testing::TempDir()) + "iraf_vo_" +
+         std::to_string(::getpid()) + "_";
+}
+struct TmpCleanup : testing::Environment {
+  void TearDown() override { std::system(("rm -rf " + tmpRoot() + "*").c_str()); }
+};
+const testing::Environment* const kTmpCleanup = testing::AddGlobalTestEnvironment(new TmpCleanup);
+
 namespace {
 
 PinholeRadtan euroc() {
@@ -25,7 +38,7 @@ KannalaBrandt tumvi() {
 }
 
 std::string tmpPath(const std::string& name) {
-  return (testing::TempDir().empty() ? std::string("/tmp/") : testing::TempDir()) + "iraf_vo_cam_" + name;
+  return tmpRoot() + "iraf_vo_cam_" + name;
 }
 
 void writeFile(const std::string& path, const std::string& text) {

@@ -1,5 +1,8 @@
 // Trajectory evaluation: association, Umeyama alignment, ATE / RPE against hand-computed values.
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdlib>
 
 #include <cmath>
 #include <cstdio>
@@ -10,6 +13,16 @@
 #include "iraf_vo/eval/trajectory_eval.h"
 
 using namespace iraf_vo;
+
+/// Per-process temp prefix so parallel runs (ctest -j, plain + sanitizer builds) never share files.
+inline std::string tmpRoot() {
+  return (testing::TempDir().empty() ? std::string("/tmp/") : testing::TempDir()) + "iraf_vo_" +
+         std::to_string(::getpid()) + "_";
+}
+struct TmpCleanup : testing::Environment {
+  void TearDown() override { std::system(("rm -rf " + tmpRoot() + "*").c_str()); }
+};
+const testing::Environment* const kTmpCleanup = testing::AddGlobalTestEnvironment(new TmpCleanup);
 
 namespace {
 
@@ -225,7 +238,7 @@ TEST(Eval, CoverageStatsAndErrors) {
 
   // CSV + JSON.
   ASSERT_TRUE(evaluateTrajectory(gt, est, p, &r, &err));
-  const std::string csv = (testing::TempDir().empty() ? std::string("/tmp/") : testing::TempDir()) + "iraf_vo_errors.csv";
+  const std::string csv = tmpRoot() + "iraf_vo_errors.csv";
   ASSERT_TRUE(writeErrorsCsv(csv, r, &err)) << err;
   std::ifstream f(csv);
   std::string line;
@@ -270,7 +283,7 @@ TEST(EvalTool, CommandLine) {
   const std::string tool = std::string(IRAF_VO_BIN_DIR) + "/iraf_vo_eval";
   struct stat st;
   if (::stat(tool.c_str(), &st) != 0) GTEST_SKIP() << "tool not built: " << tool;
-  const std::string dir = (testing::TempDir().empty() ? std::string("/tmp/") : testing::TempDir());
+  const std::string dir = tmpRoot();
   const Trajectory gt = makeGt(100);
   Sim3 S;
   S.s = 0.5;

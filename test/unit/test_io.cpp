@@ -1,20 +1,34 @@
 // ASL image folder reader, trajectory readers (TUM / EuRoC) and the TUM writer.
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdlib>
 
 #include <cstdio>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <sys/stat.h>
 
+#include "iraf_vo/camera/camera_loader.h"
 #include "iraf_vo/io/image_folder.h"
 #include "iraf_vo/io/trajectory.h"
 
 using namespace iraf_vo;
 
+/// Per-process temp prefix so parallel runs (ctest -j, plain + sanitizer builds) never share files.
+inline std::string tmpRoot() {
+  return (testing::TempDir().empty() ? std::string("/tmp/") : testing::TempDir()) + "iraf_vo_" +
+         std::to_string(::getpid()) + "_";
+}
+struct TmpCleanup : testing::Environment {
+  void TearDown() override { std::system(("rm -rf " + tmpRoot() + "*").c_str()); }
+};
+const testing::Environment* const kTmpCleanup = testing::AddGlobalTestEnvironment(new TmpCleanup);
+
 namespace {
 
 std::string tmpDir(const std::string& name) {
-  const std::string d = (testing::TempDir().empty() ? std::string("/tmp/") : testing::TempDir()) + "iraf_vo_io_" + name;
+  const std::string d = tmpRoot() + "iraf_vo_io_" + name;
   std::system(("rm -rf '" + d + "' && mkdir -p '" + d + "'").c_str());
   return d;
 }
@@ -106,6 +120,46 @@ TEST(AslImageReader, ReadsFolderReportsProblemsAndConverts) {
   CameraModelPtr cam = reader.loadCamera(&err);
   ASSERT_TRUE(cam) << err;
   EXPECT_EQ(cam->width(), 30);
+}
+
+TEST(AslImageWriter, WriteThenRead) {
+  const std::string root = tmpDir("writer");
+  const auto cam = makeCamera("kannala-brandt", 40, 30, {20, 21, 19.5, 14.5, 0.01, 0.001, -0.002, 0.0002}, nullptr);
+  ASSERT_TRUE(cam);
+  AslImageWriter w;
+  std::string err;
+  ASSERT_TRUE(w.open(root, &err, cam.get())) << err;
+  std::vector<cv::Mat> imgs;
+  cv::theRNG().state = 5;
+  for (int k = 0; k < 3; ++k) {
+    cv::Mat img(30, 40, CV_8UC1);
+    cv::randu(img, cv::Scalar(0), cv::Scalar(256));
+    imgs.push_back(img);
+    ASSERT_TRUE(w.write(1000000000LL + k * 50000000LL, img, &err)) << err;
+  }
+  EXPECT_FALSE(w.write(1000000000LL, imgs[0], &err));  // not increasing
+  EXPECT_NE(err.find("not after"), std::string::npos) << err;
+  EXPECT_FALSE(w.write(2000000000LL, cv::Mat(), &err));
+  EXPECT_FALSE(w.write(2000000000LL, cv::Mat(3, 3, CV_32FC1), &err));
+  w.close();
+  EXPECT_EQ(w.count(), 3u);
+  AslImageReader r;
+  ASSERT_TRUE(r.open(root, &err)) << err;
+  ASSERT_EQ(r.size(), 3u);
+  EXPECT_TRUE(r.warnings().empty());
+  for (size_t k = 0; k < 3; ++k) {
+    EXPECT_EQ(r.entries()[k].stamp_ns, 1000000000LL + static_cast<int64_t>(k) * 50000000LL);
+    cv::Mat g;
+    ASSERT_TRUE(r.loadImage(k, &g, &err)) << err;
+    EXPECT_EQ(cv::norm(g, imgs[k], cv::NORM_INF), 0.0);
+  }
+  CameraModelPtr c2 = r.loadCamera(&err);
+  ASSERT_TRUE(c2) << err;
+  EXPECT_EQ(c2->modelName(), "kannala-brandt");
+  EXPECT_EQ(c2->parameters(), cam->parameters());
+  AslImageWriter bad;
+  EXPECT_FALSE(bad.open("/proc/iraf_vo_cannot_write", &err));
+  EXPECT_NE(err.find("/proc/iraf_vo_cannot_write"), std::string::npos) << err;
 }
 
 TEST(AslImageReader, BadFolders) {

@@ -81,6 +81,24 @@ TEST(SimRender, DeterministicForASeed) {
   EXPECT_EQ(cv::norm(o1, o2, cv::NORM_INF), 0.0);
 }
 
+TEST(SimRender, SpanRendererMatchesReferencePath) {
+  // The vectorized 16-pixel span renderer and the per-ray reference (Scene::castRay + Scene::shade)
+  // compute the same image and depth.
+  for (const char* name : {"pinhole", "fisheye"}) {
+    auto cam = camera(name, 200, 150);
+    SimParams a, b;
+    b.span_renderer = false;
+    cv::Mat ia, ib, da, db;
+    const Eigen::Isometry3d T = iraf_vo::trajectoryPose(TrajectoryParams(), 2.3);
+    Renderer(cam, defaultRoom(), a).render(T, &ia, &da);
+    Renderer(cam, defaultRoom(), b).render(T, &ib, &db);
+    cv::Mat diff = cv::abs(ia - ib);
+    EXPECT_LT(cv::countNonZero(diff > 1.0), 0.002 * ia.total()) << name;  // rounding at face borders only
+    EXPECT_LT(cv::mean(diff)[0], 0.05) << name;
+    EXPECT_LT(cv::countNonZero(cv::abs(da - db) > 1e-3f), 0.002 * da.total()) << name;
+  }
+}
+
 TEST(SimRender, ImageHasTextureAndReasonableBrightness) {
   auto cam = camera("pinhole");
   Renderer r(cam, defaultRoom(), SimParams());
@@ -287,6 +305,26 @@ TEST(SimRender, BadInputIsRejected) {
   iraf_vo::SceneHit hit;
   EXPECT_FALSE(defaultRoom()->castRay(Eigen::Vector3f(100, 0, 1), Eigen::Vector3f(1, 0, 0), &hit));
   EXPECT_FALSE(defaultRoom()->castRay(Eigen::Vector3f(0, 0, 1), Eigen::Vector3f(NAN, 0, 0), &hit));
+  // A camera outside the room or a NaN pose renders black (no crash).
+  {
+    Renderer r(camera("pinhole", 64, 40), defaultRoom(), SimParams());
+    cv::Mat img, depth;
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation() = Eigen::Vector3d(50, 0, 1);
+    r.render(T, &img, &depth);
+    EXPECT_EQ(cv::countNonZero(img), 0);
+    T.translation() = Eigen::Vector3d(NAN, 0, 1);
+    r.render(T, &img, &depth);
+    EXPECT_EQ(cv::countNonZero(img), 0);
+    EXPECT_EQ(cv::countNonZero(depth), 0);
+  }
+  // Axis-parallel rays (exactly zero components) hit the right face.
+  ASSERT_TRUE(defaultRoom()->castRay(Eigen::Vector3f(0, 0, 1), Eigen::Vector3f(-1, 0, 0), &hit));
+  EXPECT_NEAR(hit.point.x(), -4.f, 1e-4f);
+  ASSERT_TRUE(defaultRoom()->castRay(Eigen::Vector3f(0, 0, 1), Eigen::Vector3f(0, 0, -1), &hit));
+  EXPECT_NEAR(hit.t, 1.f, 1e-5f);
+  EXPECT_EQ(hit.surface, 4);  // floor
+  EXPECT_FLOAT_EQ(hit.normal.z(), 1.f);
 }
 
 TEST(SimRender, SupersamplingAndMotionBlur) {

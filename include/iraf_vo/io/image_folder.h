@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <fstream>
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
@@ -62,6 +63,28 @@ class AslImageReader {
   std::vector<ImageEntry> entries_;
   std::vector<std::string> warnings_;
   size_t cursor_ = 0;
+};
+
+/// Writes an ASL folder readable by AslImageReader: DIR/mav0/<camera>/data.csv, data/<stamp_ns>.png (lossless)
+/// and, when a camera is given, sensor.yaml (saveCamera). Stamps must be strictly increasing.
+class AslImageWriter {
+ public:
+  /// Creates the folders and data.csv (overwrites an existing data.csv). false + *error naming the path.
+  bool open(const std::string& dir, std::string* error, const CameraModel* camera = nullptr,
+            const std::string& camera_name = "cam0");
+  /// Writes one image (CV_8U or CV_16U, 1/3/4 channels; stored as is). false + *error on a bad image,
+  /// non-increasing stamp or write failure.
+  bool write(int64_t stamp_ns, const cv::Mat& image, std::string* error);
+  size_t count() const { return n_; }
+  /// Folder holding data.csv.
+  const std::string& cameraDir() const { return cam_dir_; }
+  void close() { csv_.close(); }
+
+ private:
+  std::string cam_dir_;
+  std::ofstream csv_;
+  size_t n_ = 0;
+  int64_t last_stamp_ = -1;
 };
 
 }  // namespace iraf_vo
