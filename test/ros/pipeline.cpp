@@ -169,7 +169,12 @@ TEST_F(PipelineTest, SyntheticDarkSequence) {
   EXPECT_GT(last->map_points, 50);
 
   // Odometry and path published, frames as documented.
-  ASSERT_TRUE(waitFor([&] { std::lock_guard<std::mutex> l(mutex_); return path_ && !odom_.empty(); }, 5.0));
+  // The tracking_status of the last frame can arrive before its path / odometry messages (separate topics):
+  // wait until every tracked frame is in both.
+  ASSERT_TRUE(waitFor([&] {
+    std::lock_guard<std::mutex> l(mutex_);
+    return path_ && static_cast<int>(path_->poses.size()) >= tracked && static_cast<int>(odom_.size()) >= tracked;
+  }, 10.0));
   nav_msgs::PathConstPtr path;
   {
     std::lock_guard<std::mutex> l(mutex_);
@@ -182,8 +187,10 @@ TEST_F(PipelineTest, SyntheticDarkSequence) {
   EXPECT_EQ(static_cast<int>(path->poses.size()), tracked);
 
   // TF world -> camera.
-  EXPECT_TRUE(tf_buffer.canTransform("odom", "cam0", ros::Time(0), ros::Duration(2.0)));
-  geometry_msgs::TransformStamped tf = tf_buffer.lookupTransform("odom", "cam0", ros::Time(0));
+  // ... at the stamp of the last path pose (the latest TF may still be the previous frame's).
+  const ros::Time last_stamp = path->poses.back().header.stamp;
+  ASSERT_TRUE(tf_buffer.canTransform("odom", "cam0", last_stamp, ros::Duration(5.0)));
+  geometry_msgs::TransformStamped tf = tf_buffer.lookupTransform("odom", "cam0", last_stamp);
   EXPECT_NEAR(tf.transform.translation.x, path->poses.back().pose.position.x, 1e-6);
   EXPECT_NEAR(tf.transform.translation.z, path->poses.back().pose.position.z, 1e-6);
 
