@@ -18,6 +18,14 @@ struct FeatureStats {
   double ms_threshold = 0.0;         // adaptive threshold computation
   double ms_detect = 0.0;            // pyramid + FAST + distribution + orientation + descriptors
   double ms_cull = 0.0;
+  // Added by the feature stage (not needed by the tracker):
+  double entropy = 0.0;              // F_h of level 0 (eq. 13), bits
+  double gradient = 0.0;             // F_g of level 0 (eq. 14)
+  int cells = 0;                     // FAST cells over all levels
+  int cells_retried = 0;             // cells where F_t found nothing and the retry threshold ran
+  int candidates = 0;                // FAST corners before the quad-tree distribution
+  int brightness = 0;
+  double ms_describe = 0.0;          // part of ms_detect: orientation-free descriptor computation                // enhancement class of the input (BrightnessClass) if known, else 0
 };
 
 struct FeatureFrame {

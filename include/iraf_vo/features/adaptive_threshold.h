@@ -1,0 +1,43 @@
+// Adaptive FAST threshold of IRAF-SLAM (paper II-B, eqs. 13-20): building blocks. ROS-free.
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <array>
+#include <cmath>
+#include <cstdint>
+
+namespace iraf_vo {
+
+using Histogram256 = std::array<uint32_t, 256>;
+
+/// Adds the intensities of a CV_8UC1 image (or ROI) to *h.
+void accumulateHistogram(const cv::Mat& gray, Histogram256* h);
+
+/// eq. (13): F_h = -sum_i P(i) log2 P(i), in BITS (log base 2): 0 for a constant image, 8 (= log2 256)
+/// for a uniform histogram. Returns 0 for an empty histogram.
+double histogramEntropy(const Histogram256& h);
+
+/// eq. (14): F_g = 1/(N M) sum sqrt(I_x^2 + I_y^2), I_x, I_y = 3x3 Sobel (cv::spatialGradient,
+/// replicated border). `dx`, `dy`, `mag` are scratch buffers reused between calls.
+double meanGradientMagnitude(const cv::Mat& gray, cv::Mat* dx, cv::Mat* dy, cv::Mat* mag);
+double meanGradientMagnitude(const cv::Mat& gray);
+
+/// eq. (15): F_t^g = alpha * F_h + beta * F_g.
+inline double globalThreshold(double f_h, double f_g, double alpha, double beta) { return alpha * f_h + beta * f_g; }
+
+/// eqs. (16)-(18): Otsu threshold t_o = argmax_t sigma_c^2(t),
+/// sigma_c^2(t) = (mu_T P_t(t) - mu_t(t))^2 / (P_t(t) (1 - P_t(t))). Pixels <= t_o form the lower class.
+/// For an empty or single-valued histogram returns that value (or 0).
+int otsuThreshold(const Histogram256& h);
+
+/// eq. (19): F_t^l = delta * |I_m - t_o|.
+inline double localThreshold(double i_m, double t_o, double delta) { return delta * std::abs(i_m - t_o); }
+
+/// eq. (20): F_t = clip(F_t^l, F_t,min^l, F_t^g). When F_t^g < F_t,min the lower bound wins
+/// (the result is never below ft_min).
+inline double clipThreshold(double ft_local, double ft_min, double ft_global) {
+  const double hi = ft_global > ft_min ? ft_global : ft_min;
+  return ft_local < ft_min ? ft_min : (ft_local > hi ? hi : ft_local);
+}
+
+}  // namespace iraf_vo

@@ -1,0 +1,57 @@
+// The feature stage of IRAF-SLAM: ORB on an image pyramid with ORB-SLAM's per-cell FAST, quad-tree
+// distribution and per-level quota, the adaptive FAST threshold (paper II-B, eqs. 13-20) and feature
+// culling (paper II-C, eqs. 21-23). ROS-free.
+//
+// With adaptive_threshold = false and culling = false this is the ORB-SLAM3 front-end (thresholds 20 / 7),
+// so the baseline and every ablation run through the same code.
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <opencv2/features2d.hpp>
+#include <vector>
+
+#include "iraf_vo/features/adaptive_threshold.h"
+#include "iraf_vo/features/feature_culling.h"
+#include "iraf_vo/features/feature_frame.h"
+#include "iraf_vo/features/feature_params.h"
+
+namespace iraf_vo {
+
+/// Per-level quota of ORB-SLAM: N (1 - 1/s) / (1 - (1/s)^L) * (1/s)^l, the last level takes the remainder.
+std::vector<int> featuresPerLevel(int n_features, double scale_factor, int n_levels);
+
+/// ORB-SLAM's quad-tree distribution: splits [x0,x1) x [y0,y1) until there are >= n_desired nodes (or
+/// no node holds more than one keypoint) and keeps the strongest keypoint (response) of each node.
+std::vector<cv::KeyPoint> distributeQuadTree(const std::vector<cv::KeyPoint>& candidates, float x0, float y0, float x1,
+                                             float y1, int n_desired);
+
+/// Orientation by intensity centroid (ORB): angle in degrees [0, 360) of the moment vector over a disc of
+/// radius 15 around (x, y); (x, y) must be >= 15 px from the border.
+float intensityCentroidAngle(const cv::Mat& level, cv::Point2f pt);
+
+class FeatureExtractor {
+ public:
+  FeatureExtractor();
+
+  /// `gray8` must be a non-empty CV_8UC1 image and `params` must validate; throws std::invalid_argument
+  /// naming the problem otherwise. `culled` (optional) receives the keypoints removed by culling.
+  FeatureFrame extract(const cv::Mat& gray8, double stamp, const FeatureParams& params,
+                       CulledFeatures* culled = nullptr);
+
+  /// Pyramid of the last extract() (level l has size round(size / scale_factor^l)).
+  const std::vector<cv::Mat>& pyramid() const { return pyramid_; }
+
+  /// Builds the ORB-SLAM pyramid of `gray8` into *pyramid (level l from level l-1, INTER_LINEAR).
+  static void buildPyramid(const cv::Mat& gray8, double scale_factor, int n_levels, std::vector<cv::Mat>* pyramid);
+
+ private:
+  std::vector<cv::Mat> pyramid_;
+  cv::Mat level0_, dx_, dy_, mag_, desc_;
+  std::vector<double> thresholds_, center_;
+  std::vector<int> otsu_, cell_th_, cell_count_, sorted_th_;
+  std::vector<cv::KeyPoint> strip_kps_;
+  cv::Ptr<cv::ORB> orb_;  // descriptor computation only (rotated BRIEF), one level at a time
+  std::vector<int> umax_;
+};
+
+}  // namespace iraf_vo

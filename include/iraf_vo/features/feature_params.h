@@ -1,0 +1,66 @@
+// Parameters of the feature stage (paper II-B adaptive thresholding, II-C feature culling). ROS-free.
+// Field names equal the cfg/Features.cfg parameter names (dynamic_reconfigure class iraf_vo::FeaturesConfig)
+// and the keys of the YAML loader below.
+#pragma once
+
+#include <string>
+
+namespace YAML {
+class Node;
+}
+
+namespace iraf_vo {
+
+struct FeatureParams {
+  // ---- ORB pyramid / distribution (ORB-SLAM defaults for 752x480) ----
+  int n_features = 1000;      // total over all levels, split as a geometric series (ORB-SLAM)
+  double scale_factor = 1.2;  // pyramid scale between levels
+  int n_levels = 8;
+  int cell_size = 35;         // FAST cell side [px of the level image] (ORB-SLAM W = 35)
+
+  // ---- FAST threshold ----
+  // adaptive_threshold off = ORB-SLAM: every cell ini_th_fast, empty cells retried with min_th_fast.
+  bool adaptive_threshold = true;
+  int ini_th_fast = 20;
+  int min_th_fast = 7;
+  // eq. (15): F_t^g = alpha * F_h + beta * F_g, F_h in bits (log2), F_g = mean 3x3-Sobel magnitude.
+  // Chosen on EuRoC MH_01 (F_h ~ 7.6 bits, F_g ~ 63), its x0.2 darkened copy (F_h ~ 5.5, F_g ~ 12.5) and the
+  // DICM low-light stills: F_t^g ~ 20 (= ORB-SLAM's iniThFAST) on well-exposed EuRoC frames, ~ 9.5 on the
+  // darkened ones, 6..22 on DICM. A higher ceiling (alpha 2, beta 0.3 -> ~34) lost 5-25 % of the matched
+  // inliers between nearby EuRoC frames (see /work/notes/features.md).
+  double alpha = 1.35;
+  double beta = 0.15;
+  // eq. (19): F_t^l = delta * |I_m - t_o|. 1.0: on EuRoC half of the cells reach the F_t^g ceiling.
+  double delta = 1.0;
+  // eq. (20): lower clip F_t,min^l (= ORB-SLAM's minThFAST); also the retry threshold for cells where F_t
+  // found nothing.
+  double ft_min = 7.0;
+  // I_m of eq. (19): mean of a center_window x center_window patch at the cell centre
+  // (1 = the paper's single centre pixel; larger is robust to noise).
+  int center_window = 5;
+
+  // ---- feature culling (eqs. 21-23) ----
+  bool culling = true;
+  int min_node_size = 16;          // eq. (21): quad-tree leaves are not split below this side [level-0 px]
+  int contrast_patch_size = 15;    // H_c = std-dev of this patch around the keypoint on its level image
+  double rho = 0.5;                // eq. (22): sigmoid sensitivity
+  double h_th = 6.0;               // eq. (22): contrast threshold H_th [grey levels of std-dev]
+  double k = 4.0;                  // eq. (23): density sigmoid sharpness
+  double d_opt = 0.5;              // eq. (23): D_opt, in units of the frame's mean keypoint density
+  double w1 = 0.5;                 // eq. (23): density weight
+  double w2 = 0.5;                 // eq. (23): lighting weight (w1 + w2 = 1 in the paper)
+  double s_min = 0.4;              // keypoints with S < s_min are culled
+  int min_features = 300;          // never cull below this many keypoints (the highest-S ones are kept)
+  // eq. (23) as printed uses w2 * (1 - C_light), which rewards LOW contrast although the text says low
+  // C_light marks unstable regions. false (default) = follow the stated intent: w2 * C_light.
+  bool eq23_literal = false;
+};
+
+/// Returns a message naming every unusable field (and its value), or "" when the params are usable.
+std::string validate(const FeatureParams& p);
+
+/// Reads the keys present in `node` (a YAML map) into *p; keys not present keep their value.
+/// Unknown keys, wrong types or invalid values -> false with *err naming the key.
+bool loadFeatureParams(const YAML::Node& node, FeatureParams* p, std::string* err);
+
+}  // namespace iraf_vo

@@ -1,0 +1,81 @@
+// Ray-casting renderer of the simulator (ROS-free). For every pixel the camera model unprojects the
+// (distorted) pixel to a bearing once at construction; a frame then rotates the bearings into the
+// world, intersects the scene analytically and samples the mipmapped textures with a level chosen
+// from the pixel footprint (t * pixel angle / sqrt(cos incidence)). Optional s x s supersampling and
+// motion blur (average of sub-frame renders within the exposure time).
+#pragma once
+
+#include <Eigen/Geometry>
+#include <opencv2/core.hpp>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "iraf_vo/camera/camera_model.h"
+#include "iraf_vo/sim/scene.h"
+#include "iraf_vo/sim/trajectory.h"
+
+namespace iraf_vo {
+
+struct SimParams {
+  int frames = 400;          // 20 s at 20 Hz: one loop of the default trajectory
+  double rate_hz = 20.0;
+  int supersample = 1;       // s x s rays per pixel (1 = mipmapping only)
+  int threads = 0;           // 0 = all cores (cv::parallel_for_), 1 = single core
+  double brightness = 1.25;  // radiance -> 8-bit scale: pixel = 255 * brightness * radiance (before events)
+  int motion_blur_samples = 1;   // > 1: average of this many sub-frame renders over the exposure
+  double exposure_time_s = 0.01; // exposure window for motion blur (s)
+  uint64_t seed = 1;         // textures, noise
+  int64_t start_ns = 1000000000000000000LL;  // timestamp of frame 0 (ns) = 1e9 s
+  std::string camera = "pinhole";  // pinhole | fisheye | path/to/sensor.yaml
+  int width = 0, height = 0;       // 0 = the camera's own resolution
+};
+
+/// Returns a message naming what is wrong, or "" when usable.
+std::string validate(const SimParams& params);
+
+class Renderer {
+ public:
+  /// Precomputes the bearings of every (sub)pixel. Throws std::invalid_argument for a null camera
+  /// or bad params.
+  Renderer(CameraModelPtr camera, std::shared_ptr<const Scene> scene, const SimParams& params);
+
+  /// Renders radiance * 255 * brightness (CV_32FC1, unclipped) at pose T_W_C. `depth` (optional,
+  /// CV_32FC1) receives the z-depth in the camera frame of the pixel-centre ray (0 where nothing was hit).
+  void render(const Eigen::Isometry3d& T_W_C, cv::Mat* radiance, cv::Mat* depth = nullptr) const;
+
+  /// Frame i of the trajectory (motion blur: average over the exposure window around its timestamp).
+  void renderFrame(const TrajectoryParams& traj, int frame, cv::Mat* radiance, cv::Mat* depth = nullptr) const;
+
+  /// Casts the ray of pixel (u, v) (any sub-pixel position) from pose T_W_C. Returns false when the
+  /// camera cannot unproject it or nothing is hit. p_W: hit point in the world; depth: z in the camera frame.
+  bool castPixel(const Eigen::Isometry3d& T_W_C, const Eigen::Vector2d& uv, Eigen::Vector3d* p_W,
+                 double* depth = nullptr) const;
+
+  const CameraModel& camera() const { return *camera_; }
+  const Scene& scene() const { return *scene_; }
+  const SimParams& params() const { return params_; }
+  double frameTime(int frame) const { return frame / params_.rate_hz; }
+  int64_t frameStampNs(int frame) const;
+
+ private:
+  /// Renders tile rows [tr0, tr1).
+  void renderTileRows(const Eigen::Isometry3d& T_W_C, int tr0, int tr1, cv::Mat* radiance, cv::Mat* depth) const;
+
+  CameraModelPtr camera_;
+  std::shared_ptr<const Scene> scene_;
+  SimParams params_;
+  int w_ = 0, h_ = 0, ss_ = 1;
+  // Per sub-pixel bearing (structure of arrays, row-major pixel, then sub-sample) and per pixel
+  // angular footprint (rad) for the mip level; valid = 0 where unprojection failed.
+  std::vector<float> bx_, by_, bz_, footprint_;
+  std::vector<uint8_t> valid_;
+  // Box culling: the rays of a kTile x kTile tile lie in a cone (axis in the camera frame, half-angle);
+  // only boxes whose bounding sphere meets the cone are intersected.
+  static constexpr int kTile = 16;
+  int tiles_x_ = 0, tiles_y_ = 0;
+  std::vector<Eigen::Vector3f> tile_axis_;
+  std::vector<float> tile_half_angle_;
+};
+
+}  // namespace iraf_vo

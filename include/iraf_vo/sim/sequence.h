@@ -1,0 +1,73 @@
+// Writing simulated sequences and degrading real ones (ROS-free): ASL/EuRoC folder layout
+//   OUT/mav0/cam0/data.csv, OUT/mav0/cam0/data/<ns>.png, OUT/mav0/cam0/sensor.yaml,
+//   OUT/groundtruth.txt (TUM: "t[s] tx ty tz qx qy qz qw", T_W_C, seconds with 9 decimals),
+//   OUT/events.csv (photometric events, frame ranges).
+#pragma once
+
+#include <Eigen/Geometry>
+#include <opencv2/core.hpp>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "iraf_vo/camera/camera_model.h"
+#include "iraf_vo/sim/photometric.h"
+#include "iraf_vo/sim/renderer.h"
+
+namespace iraf_vo {
+
+/// The simulator's camera: "pinhole" (EuRoC cam0 pinhole-radtan 752x480), "fisheye" (TUM-VI cam0
+/// Kannala-Brandt 512x512) or a sensor.yaml path (loadCamera). width/height > 0 rescale the built-in
+/// intrinsics to that resolution. Returns null and sets *error on failure.
+CameraModelPtr makeSimCamera(const std::string& camera, int width, int height, std::string* error);
+
+/// EuRoC/Kalibr sensor.yaml with T_BS identity and rate_hz.
+bool writeSensorYaml(const CameraModel& camera, double rate_hz, const std::string& path, std::string* error);
+
+/// "sec.nnnnnnnnn" from integer nanoseconds (exact, no floating point).
+std::string nsToSecondsString(int64_t ns);
+/// TUM line "t tx ty tz qx qy qz qw" (t with 9 decimals).
+std::string tumLine(int64_t stamp_ns, const Eigen::Isometry3d& T_W_C);
+
+/// mkdir -p. Returns false (and sets *error) when a component cannot be created.
+bool makeDirs(const std::string& path, std::string* error);
+
+struct SimFrame {
+  int index = 0;
+  int64_t stamp_ns = 0;
+  Eigen::Isometry3d T_W_C = Eigen::Isometry3d::Identity();
+  cv::Mat image;  // CV_8UC1
+};
+
+struct SimulateReport {
+  int frames = 0;
+  double render_ms = 0.0;       // total rendering time
+  double photometric_ms = 0.0;  // total photometric-event time
+  double write_ms = 0.0;        // PNG + csv writing
+};
+
+/// Renders params.frames frames along the trajectory, applies the photometric events, writes the ASL
+/// folder to out_dir (skipped when out_dir is empty) and calls on_frame (optional) for every frame.
+bool simulateSequence(const Renderer& renderer, const TrajectoryParams& traj, const PhotometricParams& photometric,
+                      const std::string& out_dir, const std::function<void(const SimFrame&)>& on_frame,
+                      SimulateReport* report, std::string* error);
+
+struct DegradeReport {
+  int images = 0;     // rows of data.csv
+  int written = 0;
+  int skipped = 0;    // missing/unreadable images (reported on stderr)
+  std::vector<std::string> copied;  // ground-truth / calibration files copied (relative paths)
+};
+
+/// Applies the photometric events to every image of the ASL sequence in_dir (mav0/cam0/data.csv +
+/// data/), writing out_dir with the same layout and timestamps; copies mav0/cam0/sensor.yaml, any
+/// groundtruth/ folder, mav0/state_groundtruth_estimate0/, the other mav0 sensors' csv/yaml files,
+/// and top-level files. Returns false (and sets *error) when in_dir has no mav0/cam0/data.csv.
+bool degradeAslSequence(const std::string& in_dir, const std::string& out_dir, const PhotometricParams& photometric,
+                        DegradeReport* report, std::string* error);
+
+/// Rows of an ASL data.csv: (timestamp ns, file name). Returns false when the file cannot be read.
+bool readAslCsv(const std::string& path, std::vector<std::pair<int64_t, std::string>>* rows, std::string* error);
+
+}  // namespace iraf_vo

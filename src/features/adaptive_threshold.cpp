@@ -1,0 +1,110 @@
+#include "iraf_vo/features/adaptive_threshold.h"
+
+#include <opencv2/imgproc.hpp>
+
+namespace iraf_vo {
+
+void accumulateHistogram(const cv::Mat& gray, Histogram256* h) {
+  CV_Assert(gray.type() == CV_8UC1);
+  // Two interleaved sub-histograms break the store->load dependency on repeated values.
+  uint32_t a[256] = {0}, b[256] = {0};
+  for (int r = 0; r < gray.rows; ++r) {
+    const uint8_t* p = gray.ptr<uint8_t>(r);
+    int c = 0;
+    for (; c + 1 < gray.cols; c += 2) {
+      ++a[p[c]];
+      ++b[p[c + 1]];
+    }
+    if (c < gray.cols) ++a[p[c]];
+  }
+  for (int i = 0; i < 256; ++i) (*h)[i] += a[i] + b[i];
+}
+
+double histogramEntropy(const Histogram256& h) {
+  double total = 0.0;
+  for (uint32_t v : h) total += v;
+  if (!(total > 0.0)) return 0.0;
+  // eq. (13): F_h = -sum_i P(i) log P(i), log base 2 (bits)
+  double f_h = 0.0;
+  for (uint32_t v : h) {
+    if (v == 0) continue;
+    const double p = v / total;
+    f_h -= p * std::log2(p);
+  }
+  return f_h;
+}
+
+double meanGradientMagnitude(const cv::Mat& gray, cv::Mat* dx, cv::Mat* dy, cv::Mat* mag) {
+  CV_Assert(gray.type() == CV_8UC1);
+  if (gray.empty()) return 0.0;
+  // eq. (14): I_x, I_y by 3x3 Sobel; F_g = mean sqrt(I_x^2 + I_y^2)
+  cv::spatialGradient(gray, *dx, *dy, 3, cv::BORDER_REPLICATE);
+  double sum = 0.0;
+  mag->create(1, gray.cols, CV_32F);
+  float* m = mag->ptr<float>();
+  for (int r = 0; r < gray.rows; ++r) {
+    const int16_t* gx = dx->ptr<int16_t>(r);
+    const int16_t* gy = dy->ptr<int16_t>(r);
+    // Integer squares, then a vectorisable float sqrt (no errno path: the argument is never negative).
+    for (int c = 0; c < gray.cols; ++c) m[c] = static_cast<float>(gx[c] * gx[c] + gy[c] * gy[c]);
+    cv::sqrt(*mag, *mag);
+    float s0 = 0.f, s1 = 0.f, s2 = 0.f, s3 = 0.f;
+    int c = 0;
+    for (; c + 3 < gray.cols; c += 4) {
+      s0 += m[c];
+      s1 += m[c + 1];
+      s2 += m[c + 2];
+      s3 += m[c + 3];
+    }
+    for (; c < gray.cols; ++c) s0 += m[c];
+    sum += static_cast<double>(s0) + s1 + s2 + s3;
+  }
+  return sum / (static_cast<double>(gray.rows) * gray.cols);
+}
+
+double meanGradientMagnitude(const cv::Mat& gray) {
+  cv::Mat dx, dy, mag;
+  return meanGradientMagnitude(gray, &dx, &dy, &mag);
+}
+
+int otsuThreshold(const Histogram256& h) {
+  // mu_T = sum_i i P(i); N = number of pixels; lo / hi = first / last non-empty bin
+  double n = 0.0, sum_t = 0.0;
+  int lo = -1, hi = -1;
+  for (int i = 0; i < 256; ++i) {
+    if (h[i] == 0) continue;
+    if (lo < 0) lo = i;
+    hi = i;
+    n += h[i];
+    sum_t += static_cast<double>(i) * h[i];
+  }
+  if (lo < 0) return 0;
+  if (lo == hi) return lo;  // single-valued: no split exists
+  // eq. (16) with P_t = w0 / N and mu_t = s0 / N (w0 = pixels <= t, s0 = their intensity sum):
+  //   sigma_c^2(t) = (mu_T P_t - mu_t)^2 / (P_t (1 - P_t)) = (sum_t w0 - N s0)^2 / (N^2 w0 (N - w0)).
+  // N^2 is constant, so argmax compares num2 / den with num2 = (sum_t w0 - N s0)^2, den = w0 (N - w0)
+  // by cross-multiplication (no division). Bins outside [lo, hi] leave one class empty and are skipped.
+  double w0 = 0.0, s0 = 0.0, best_num2 = -1.0, best_den = 1.0;
+  int t_o = lo, t_last = lo;
+  for (int t = lo; t < hi; ++t) {
+    if (h[t] == 0) {  // sigma_c^2(t) = sigma_c^2(t - 1): only a flat maximum can grow
+      if (t_last == t - 1) t_last = t;
+      continue;
+    }
+    w0 += h[t];
+    s0 += static_cast<double>(t) * h[t];
+    const double num = sum_t * w0 - n * s0;
+    const double num2 = num * num, den = w0 * (n - w0);
+    const double lhs = num2 * best_den, rhs = best_num2 * den;
+    if (lhs > rhs * (1.0 + 1e-12)) {  // eq. (17): t_o = argmax_t sigma_c^2(t)
+      best_num2 = num2;
+      best_den = den;
+      t_o = t_last = t;
+    } else if (lhs >= rhs * (1.0 - 1e-12) && t_last == t - 1) {
+      t_last = t;  // flat maximum (empty bins between the classes): take its middle
+    }
+  }
+  return (t_o + t_last) / 2;
+}
+
+}  // namespace iraf_vo

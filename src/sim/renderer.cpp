@@ -1,0 +1,209 @@
+#include "iraf_vo/sim/renderer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include <opencv2/core/utility.hpp>
+
+namespace iraf_vo {
+
+std::string validate(const SimParams& p) {
+  std::ostringstream err;
+  if (p.frames < 1) err << "frames must be >= 1 (got " << p.frames << "); ";
+  if (!(p.rate_hz > 0.0)) err << "rate_hz must be > 0; ";
+  if (p.supersample < 1 || p.supersample > 4) err << "supersample must be in [1, 4] (got " << p.supersample << "); ";
+  if (p.threads < 0) err << "threads must be >= 0; ";
+  if (!(p.brightness > 0.0)) err << "brightness must be > 0; ";
+  if (p.motion_blur_samples < 1) err << "motion_blur_samples must be >= 1; ";
+  if (!(p.exposure_time_s >= 0.0)) err << "exposure_time_s must be >= 0; ";
+  if (p.width < 0 || p.height < 0) err << "width/height must be >= 0; ";
+  return err.str();
+}
+
+Renderer::Renderer(CameraModelPtr camera, std::shared_ptr<const Scene> scene, const SimParams& params)
+    : camera_(std::move(camera)), scene_(std::move(scene)), params_(params) {
+  if (!camera_) throw std::invalid_argument("Renderer: null camera model");
+  if (!scene_) throw std::invalid_argument("Renderer: null scene");
+  const std::string err = validate(params);
+  if (!err.empty()) throw std::invalid_argument("Renderer: " + err);
+  w_ = camera_->width();
+  h_ = camera_->height();
+  if (w_ < 2 || h_ < 2) throw std::invalid_argument("Renderer: camera resolution must be at least 2x2");
+  ss_ = params.supersample;
+  const size_t n = static_cast<size_t>(w_) * h_ * ss_ * ss_;
+  bx_.assign(n, 0.f), by_.assign(n, 0.f), bz_.assign(n, 1.f), valid_.assign(n, 0);
+  footprint_.assign(static_cast<size_t>(w_) * h_, 0.f);
+  size_t k = 0;
+  for (int r = 0; r < h_; ++r)
+    for (int c = 0; c < w_; ++c)
+      for (int sy = 0; sy < ss_; ++sy)
+        for (int sx = 0; sx < ss_; ++sx, ++k) {
+          const Eigen::Vector2d uv(c + (sx + 0.5) / ss_ - 0.5, r + (sy + 0.5) / ss_ - 0.5);
+          Eigen::Vector3d b;
+          if (camera_->unproject(uv, &b) && b.allFinite() && b.norm() > 0.5) {
+            b.normalize();
+            bx_[k] = static_cast<float>(b.x()), by_[k] = static_cast<float>(b.y()), bz_[k] = static_cast<float>(b.z());
+            valid_[k] = 1;
+          }
+        }
+  // Angular size of a pixel (distance between neighbouring pixel-centre bearings); a sub-sample
+  // covers 1/ss of it.
+  auto centre = [&](int c, int r, Eigen::Vector3d* b) {
+    return camera_->unproject(Eigen::Vector2d(c, r), b) && b->allFinite();
+  };
+  for (int r = 0; r < h_; ++r)
+    for (int c = 0; c < w_; ++c) {
+      Eigen::Vector3d b0, bu, bv;
+      if (!centre(c, r, &b0)) continue;
+      const int cn = c + 1 < w_ ? c + 1 : c - 1, rn = r + 1 < h_ ? r + 1 : r - 1;
+      double a = 0.0;
+      if (centre(cn, r, &bu)) a = std::max(a, std::acos(std::min(1.0, b0.normalized().dot(bu.normalized()))));
+      if (centre(c, rn, &bv)) a = std::max(a, std::acos(std::min(1.0, b0.normalized().dot(bv.normalized()))));
+      footprint_[static_cast<size_t>(r) * w_ + c] = static_cast<float>(a / ss_);
+    }
+  // Tile cones for box culling.
+  tiles_x_ = (w_ + kTile - 1) / kTile, tiles_y_ = (h_ + kTile - 1) / kTile;
+  tile_axis_.assign(static_cast<size_t>(tiles_x_) * tiles_y_, Eigen::Vector3f::UnitZ());
+  tile_half_angle_.assign(tile_axis_.size(), static_cast<float>(M_PI));
+  for (int ty = 0; ty < tiles_y_; ++ty)
+    for (int tx = 0; tx < tiles_x_; ++tx) {
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      std::vector<Eigen::Vector3d> rays;
+      for (int r = ty * kTile; r < std::min(h_, (ty + 1) * kTile); ++r)
+        for (int c = tx * kTile; c < std::min(w_, (tx + 1) * kTile); ++c)
+          for (int s = 0; s < ss_ * ss_; ++s) {
+            const size_t k = (static_cast<size_t>(r) * w_ + c) * ss_ * ss_ + s;
+            if (!valid_[k]) continue;
+            rays.emplace_back(bx_[k], by_[k], bz_[k]);
+            sum += rays.back();
+          }
+      const size_t t = static_cast<size_t>(ty) * tiles_x_ + tx;
+      if (rays.empty() || sum.norm() < 1e-6) continue;  // keep the conservative half-angle pi
+      const Eigen::Vector3d axis = sum.normalized();
+      double max_angle = 0.0;
+      for (const auto& b : rays) max_angle = std::max(max_angle, std::acos(std::min(1.0, axis.dot(b))));
+      tile_axis_[t] = axis.cast<float>();
+      tile_half_angle_[t] = static_cast<float>(max_angle + 1e-4);
+    }
+}
+
+int64_t Renderer::frameStampNs(int frame) const {
+  return params_.start_ns + static_cast<int64_t>(std::llround(frame * 1e9 / params_.rate_hz));
+}
+
+void Renderer::renderTileRows(const Eigen::Isometry3d& T_W_C, int tr0, int tr1, cv::Mat* radiance,
+                              cv::Mat* depth) const {
+  const Eigen::Matrix3f R = T_W_C.linear().cast<float>();
+  const Eigen::Vector3f o = T_W_C.translation().cast<float>();
+  const float scale = static_cast<float>(255.0 * params_.brightness);
+  const float tpm = static_cast<float>(scene_->params().texels_per_m);
+  const int nsub = ss_ * ss_;
+  const float inv_nsub = 1.f / nsub;
+  const Scene& scene = *scene_;
+  const std::vector<SceneBox>& boxes = scene.boxes();
+  // Bounding spheres of the boxes relative to the camera centre.
+  std::vector<Eigen::Vector3f> centre(boxes.size());
+  std::vector<float> dist(boxes.size()), radius(boxes.size());
+  for (size_t b = 0; b < boxes.size(); ++b) {
+    centre[b] = 0.5f * (boxes[b].lo + boxes[b].hi) - o;
+    dist[b] = centre[b].norm();
+    radius[b] = 0.5f * (boxes[b].hi - boxes[b].lo).norm() + 1e-3f;
+  }
+  std::vector<int> cand(boxes.size());
+  SceneHit hit;
+  for (int ty = tr0; ty < tr1; ++ty) {
+    for (int tx = 0; tx < tiles_x_; ++tx) {
+      const int tile = ty * tiles_x_ + tx;
+      const Eigen::Vector3f axis = R * tile_axis_[tile];
+      int nc = 0;
+      for (size_t b = 0; b < boxes.size(); ++b) {
+        if (dist[b] <= radius[b]) {
+          cand[nc++] = static_cast<int>(b);
+          continue;
+        }
+        const float cosb = std::max(-1.f, std::min(1.f, centre[b].dot(axis) / dist[b]));
+        if (std::acos(cosb) <= tile_half_angle_[tile] + std::asin(radius[b] / dist[b])) cand[nc++] = static_cast<int>(b);
+      }
+      const int r_end = std::min(h_, (ty + 1) * kTile), c_end = std::min(w_, (tx + 1) * kTile);
+      for (int r = ty * kTile; r < r_end; ++r) {
+        float* out = radiance->ptr<float>(r);
+        float* dep = depth ? depth->ptr<float>(r) : nullptr;
+        for (int c = tx * kTile; c < c_end; ++c) {
+          const size_t pix = static_cast<size_t>(r) * w_ + c;
+          const float fp_ang = footprint_[pix] * tpm;
+          float acc = 0.f;
+          for (int s = 0; s < nsub; ++s) {
+            const size_t k = pix * nsub + s;
+            if (!valid_[k]) continue;
+            const Eigen::Vector3f b(bx_[k], by_[k], bz_[k]);
+            const Eigen::Vector3f d = R * b;
+            if (!scene.castRay(o, d, &hit, cand.data(), nc)) continue;
+            // Footprint on the surface in texels: t * pixel angle / sqrt(cos incidence) (a compromise
+            // between blur and aliasing at grazing angles).
+            const float cosi = std::max(0.05f, std::abs(hit.normal.dot(d)));
+            acc += scene.shade(hit, hit.t * fp_ang / std::sqrt(cosi));
+            if (dep && s == 0 && nsub == 1) dep[c] = hit.t * b.z();
+          }
+          out[c] = acc * inv_nsub * scale;
+          if (dep && nsub > 1) {
+            // z-depth of the pixel centre ray.
+            Eigen::Vector3d p;
+            double z = 0.0;
+            dep[c] = castPixel(T_W_C, Eigen::Vector2d(c, r), &p, &z) ? static_cast<float>(z) : 0.f;
+          }
+        }
+      }
+    }
+  }
+}
+
+void Renderer::render(const Eigen::Isometry3d& T_W_C, cv::Mat* radiance, cv::Mat* depth) const {
+  radiance->create(h_, w_, CV_32FC1);
+  if (depth) {
+    depth->create(h_, w_, CV_32FC1);
+    depth->setTo(0.f);
+  }
+  if (params_.threads == 1) {
+    renderTileRows(T_W_C, 0, tiles_y_, radiance, depth);
+    return;
+  }
+  cv::parallel_for_(cv::Range(0, tiles_y_), [&](const cv::Range& range) {
+    renderTileRows(T_W_C, range.start, range.end, radiance, depth);
+  }, tiles_y_);
+}
+
+void Renderer::renderFrame(const TrajectoryParams& traj, int frame, cv::Mat* radiance, cv::Mat* depth) const {
+  const double t = frameTime(frame);
+  const int n = params_.motion_blur_samples;
+  if (n <= 1 || params_.exposure_time_s <= 0.0 || depth) {
+    render(trajectoryPose(traj, t), radiance, depth);  // depth: of the mid-exposure pose
+    if (n <= 1 || params_.exposure_time_s <= 0.0) return;
+  }
+  // Motion blur: average of n renders spread uniformly over [t - exposure/2, t + exposure/2].
+  cv::Mat acc = cv::Mat::zeros(h_, w_, CV_32FC1), sub;
+  for (int i = 0; i < n; ++i) {
+    const double ts = t + params_.exposure_time_s * ((i + 0.5) / n - 0.5);
+    render(trajectoryPose(traj, ts), &sub, nullptr);
+    acc += sub;
+  }
+  *radiance = acc / static_cast<double>(n);
+}
+
+bool Renderer::castPixel(const Eigen::Isometry3d& T_W_C, const Eigen::Vector2d& uv, Eigen::Vector3d* p_W,
+                         double* depth) const {
+  Eigen::Vector3d b;
+  if (!camera_->unproject(uv, &b) || !b.allFinite() || b.norm() < 0.5) return false;
+  b.normalize();
+  const Eigen::Vector3d d = T_W_C.linear() * b;
+  SceneHit hit;
+  if (!scene_->castRay(T_W_C.translation().cast<float>(), d.cast<float>(), &hit)) return false;
+  // Recompute the point in double from the ray parameter for a precise reprojection.
+  const double t = hit.t;
+  *p_W = T_W_C.translation() + t * d;
+  if (depth) *depth = t * b.z();
+  return true;
+}
+
+}  // namespace iraf_vo

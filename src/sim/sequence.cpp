@@ -1,0 +1,290 @@
+#include "iraf_vo/sim/sequence.h"
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "iraf_vo/camera/camera_loader.h"
+
+namespace iraf_vo {
+
+namespace fs = std::filesystem;
+
+namespace {
+double msSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+void setError(std::string* error, const std::string& msg) {
+  if (error) *error = msg;
+}
+}  // namespace
+
+CameraModelPtr makeSimCamera(const std::string& camera, int width, int height, std::string* error) {
+  std::vector<double> p;
+  std::string model;
+  int w0, h0;
+  if (camera == "pinhole") {
+    // EuRoC cam0: fu fv cu cv, radtan k1 k2 p1 p2.
+    model = "pinhole-radtan", w0 = 752, h0 = 480;
+    p = {458.654, 457.296, 367.215, 248.375, -0.28340811, 0.07395907, 0.00019359, 1.76187114e-05};
+  } else if (camera == "fisheye") {
+    // TUM-VI cam0 512x512, equidistant (Kannala-Brandt) k1..k4.
+    model = "kannala-brandt", w0 = 512, h0 = 512;
+    p = {190.978, 190.973, 254.932, 256.897, 0.0034824, 0.00071503, -0.0020532, 0.00020294};
+  } else {
+    std::string err;
+    CameraModelPtr cam = loadCamera(camera, &err);
+    if (!cam) {
+      setError(error, "camera '" + camera + "': " + err);
+      return nullptr;
+    }
+    if ((width > 0 && width != cam->width()) || (height > 0 && height != cam->height())) {
+      setError(error, "camera '" + camera + "' is " + std::to_string(cam->width()) + "x" + std::to_string(cam->height()) +
+                          ": --width/--height can only rescale the built-in pinhole/fisheye cameras");
+      return nullptr;
+    }
+    return cam;
+  }
+  const int w = width > 0 ? width : w0, h = height > 0 ? height : h0;
+  const double sx = static_cast<double>(w) / w0, sy = static_cast<double>(h) / h0;
+  p[0] *= sx, p[2] = (p[2] + 0.5) * sx - 0.5;
+  p[1] *= sy, p[3] = (p[3] + 0.5) * sy - 0.5;
+  std::string err;
+  CameraModelPtr cam = makeCamera(model, w, h, p, &err);
+  if (!cam) setError(error, "camera '" + camera + "': " + err);
+  return cam;
+}
+
+bool writeSensorYaml(const CameraModel& camera, double rate_hz, const std::string& path, std::string* error) {
+  const std::vector<double> p = camera.parameters();
+  const bool radtan = camera.modelName() == "pinhole-radtan";
+  std::ofstream f(path);
+  if (!f) {
+    setError(error, path + ": cannot write");
+    return false;
+  }
+  char buf[64];
+  auto num = [&](double v) {
+    std::snprintf(buf, sizeof(buf), "%.17g", v);
+    return std::string(buf);
+  };
+  f << "# Written by iraf_vo_simulate (" << camera.modelName() << "). EuRoC/Kalibr layout.\n"
+    << "sensor_type: camera\ncomment: iraf_vo simulated camera\n\n"
+    << "T_BS:\n  cols: 4\n  rows: 4\n  data: [1.0, 0.0, 0.0, 0.0,\n         0.0, 1.0, 0.0, 0.0,\n"
+    << "         0.0, 0.0, 1.0, 0.0,\n         0.0, 0.0, 0.0, 1.0]\n\n"
+    << "rate_hz: " << num(rate_hz) << "\n"
+    << "resolution: [" << camera.width() << ", " << camera.height() << "]\n"
+    << "camera_model: pinhole\n"
+    << "intrinsics: [" << num(p[0]) << ", " << num(p[1]) << ", " << num(p[2]) << ", " << num(p[3]) << "]  # fu, fv, cu, cv\n"
+    << "distortion_model: " << (radtan ? "radial-tangential" : "equidistant") << "\n"
+    << "distortion_coefficients: [";
+  for (size_t i = 4; i < p.size(); ++i) f << (i > 4 ? ", " : "") << num(p[i]);
+  f << "]\n";
+  if (!f) {
+    setError(error, path + ": write failed");
+    return false;
+  }
+  return true;
+}
+
+std::string nsToSecondsString(int64_t ns) {
+  const bool neg = ns < 0;
+  const uint64_t a = neg ? static_cast<uint64_t>(-ns) : static_cast<uint64_t>(ns);
+  char buf[48];
+  std::snprintf(buf, sizeof(buf), "%s%llu.%09llu", neg ? "-" : "", static_cast<unsigned long long>(a / 1000000000ULL),
+                static_cast<unsigned long long>(a % 1000000000ULL));
+  return buf;
+}
+
+std::string tumLine(int64_t stamp_ns, const Eigen::Isometry3d& T_W_C) {
+  const Eigen::Quaterniond q(T_W_C.linear());
+  const Eigen::Vector3d t = T_W_C.translation();
+  char buf[256];
+  std::snprintf(buf, sizeof(buf), "%s %.9f %.9f %.9f %.9f %.9f %.9f %.9f", nsToSecondsString(stamp_ns).c_str(), t.x(),
+                t.y(), t.z(), q.x(), q.y(), q.z(), q.w());
+  return buf;
+}
+
+bool makeDirs(const std::string& path, std::string* error) {
+  std::error_code ec;
+  fs::create_directories(path, ec);
+  if (ec || !fs::is_directory(path)) {
+    setError(error, path + ": cannot create directory" + (ec ? " (" + ec.message() + ")" : std::string()));
+    return false;
+  }
+  return true;
+}
+
+bool simulateSequence(const Renderer& renderer, const TrajectoryParams& traj, const PhotometricParams& photometric,
+                      const std::string& out_dir, const std::function<void(const SimFrame&)>& on_frame,
+                      SimulateReport* report, std::string* error) {
+  const std::string perr = validate(photometric);
+  if (!perr.empty()) {
+    setError(error, "photometric events: " + perr);
+    return false;
+  }
+  const int n = renderer.params().frames;
+  std::ofstream csv, gt;
+  const std::string cam_dir = out_dir + "/mav0/cam0";
+  if (!out_dir.empty()) {
+    if (!makeDirs(cam_dir + "/data", error)) return false;
+    if (!writeSensorYaml(renderer.camera(), renderer.params().rate_hz, cam_dir + "/sensor.yaml", error)) return false;
+    if (!writeEventsCsv(out_dir + "/events.csv", photometric, n, error)) return false;
+    csv.open(cam_dir + "/data.csv");
+    gt.open(out_dir + "/groundtruth.txt");
+    if (!csv || !gt) {
+      setError(error, out_dir + ": cannot write data.csv / groundtruth.txt");
+      return false;
+    }
+    csv << "#timestamp [ns],filename\n";
+    gt << "# iraf_vo_simulate ground truth: pose of the camera in the world (T_W_C), TUM format\n"
+       << "# timestamp[s] tx ty tz qx qy qz qw\n";
+  }
+  SimulateReport rep;
+  cv::Mat radiance;
+  for (int i = 0; i < n; ++i) {
+    SimFrame f;
+    f.index = i;
+    f.stamp_ns = renderer.frameStampNs(i);
+    f.T_W_C = trajectoryPose(traj, renderer.frameTime(i));
+    auto t0 = std::chrono::steady_clock::now();
+    renderer.renderFrame(traj, i, &radiance);
+    rep.render_ms += msSince(t0);
+    t0 = std::chrono::steady_clock::now();
+    applyPhotometric(radiance, i, photometric, &f.image);
+    rep.photometric_ms += msSince(t0);
+    if (!out_dir.empty()) {
+      t0 = std::chrono::steady_clock::now();
+      const std::string name = std::to_string(f.stamp_ns) + ".png";
+      if (!cv::imwrite(cam_dir + "/data/" + name, f.image)) {
+        setError(error, cam_dir + "/data/" + name + ": cannot write PNG");
+        return false;
+      }
+      csv << f.stamp_ns << ',' << name << '\n';
+      gt << tumLine(f.stamp_ns, f.T_W_C) << '\n';
+      rep.write_ms += msSince(t0);
+    }
+    if (on_frame) on_frame(f);
+    ++rep.frames;
+  }
+  if (!out_dir.empty() && (!csv.flush() || !gt.flush())) {
+    setError(error, out_dir + ": write failed (disk full?)");
+    return false;
+  }
+  if (report) *report = rep;
+  return true;
+}
+
+bool readAslCsv(const std::string& path, std::vector<std::pair<int64_t, std::string>>* rows, std::string* error) {
+  std::ifstream f(path);
+  if (!f) {
+    setError(error, path + ": cannot open");
+    return false;
+  }
+  rows->clear();
+  std::string line;
+  int lineno = 0;
+  while (std::getline(f, line)) {
+    ++lineno;
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+    if (line.empty() || line[0] == '#') continue;
+    const size_t comma = line.find(',');
+    std::string name = comma == std::string::npos ? std::string() : line.substr(comma + 1);
+    name.erase(0, name.find_first_not_of(' '));
+    try {
+      size_t used = 0;
+      const long long ts = std::stoll(line.substr(0, comma), &used);
+      if (name.empty()) throw std::invalid_argument("no file name");
+      rows->emplace_back(ts, name);
+    } catch (const std::exception&) {
+      std::cerr << path << ":" << lineno << ": bad row '" << line << "' (expected 'timestamp_ns,filename'), skipped\n";
+    }
+  }
+  return true;
+}
+
+bool degradeAslSequence(const std::string& in_dir, const std::string& out_dir, const PhotometricParams& photometric,
+                        DegradeReport* report, std::string* error) {
+  const std::string perr = validate(photometric);
+  if (!perr.empty()) {
+    setError(error, "photometric events: " + perr);
+    return false;
+  }
+  const std::string in_cam = in_dir + "/mav0/cam0", out_cam = out_dir + "/mav0/cam0";
+  if (!fs::is_regular_file(in_cam + "/data.csv")) {
+    setError(error, in_dir + ": not an ASL sequence (missing " + in_cam + "/data.csv)");
+    return false;
+  }
+  if (fs::exists(out_dir) && fs::equivalent(in_dir, out_dir)) {
+    setError(error, out_dir + ": output must differ from the input");
+    return false;
+  }
+  std::vector<std::pair<int64_t, std::string>> rows;
+  if (!readAslCsv(in_cam + "/data.csv", &rows, error)) return false;
+  if (!makeDirs(out_cam + "/data", error)) return false;
+
+  DegradeReport rep;
+  rep.images = static_cast<int>(rows.size());
+  // Ground truth and calibration: copied unchanged (recursive for folders).
+  std::error_code ec;
+  auto copyOne = [&](const fs::path& src, const fs::path& rel) {
+    const fs::path dst = fs::path(out_dir) / rel;
+    fs::create_directories(dst.parent_path(), ec);
+    fs::copy(src, dst, fs::copy_options::recursive | fs::copy_options::overwrite_existing, ec);
+    if (ec) std::cerr << "degrade: cannot copy " << src << ": " << ec.message() << "\n";
+    else rep.copied.push_back(rel.string());
+  };
+  for (const auto& entry : fs::directory_iterator(in_dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name == "mav0") continue;
+    if (entry.is_regular_file() || (entry.is_directory() && name.find("groundtruth") != std::string::npos))
+      copyOne(entry.path(), name);
+  }
+  for (const auto& entry : fs::directory_iterator(in_dir + "/mav0", ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name == "cam0") continue;
+    if (entry.is_regular_file() || entry.is_directory()) copyOne(entry.path(), fs::path("mav0") / name);
+  }
+  for (const auto& entry : fs::directory_iterator(in_cam, ec))
+    if (entry.is_regular_file() && entry.path().filename() != "data.csv")
+      copyOne(entry.path(), fs::path("mav0/cam0") / entry.path().filename());
+
+  std::ofstream csv(out_cam + "/data.csv");
+  if (!csv) {
+    setError(error, out_cam + "/data.csv: cannot write");
+    return false;
+  }
+  csv << "#timestamp [ns],filename\n";
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const std::string src = in_cam + "/data/" + rows[i].second;
+    cv::Mat img = cv::imread(src, cv::IMREAD_UNCHANGED);
+    if (!img.empty() && img.channels() == 3) cv::cvtColor(img, img, cv::COLOR_BGR2GRAY);
+    if (!img.empty() && img.depth() == CV_16U) img.convertTo(img, CV_8U, 1.0 / 256.0);
+    if (img.empty() || img.type() != CV_8UC1) {
+      std::cerr << "degrade: " << src << ": missing or unreadable image (row " << i << "), skipped\n";
+      ++rep.skipped;
+      continue;
+    }
+    cv::Mat out;
+    applyPhotometric(img, static_cast<int>(i), photometric, &out);
+    const std::string dst = out_cam + "/data/" + rows[i].second;
+    if (!cv::imwrite(dst, out)) {
+      std::cerr << "degrade: " << dst << ": cannot write, skipped\n";
+      ++rep.skipped;
+      continue;
+    }
+    csv << rows[i].first << ',' << rows[i].second << '\n';
+    ++rep.written;
+  }
+  if (!writeEventsCsv(out_dir + "/events.csv", photometric, rep.images, error)) return false;
+  if (report) *report = rep;
+  return true;
+}
+
+}  // namespace iraf_vo

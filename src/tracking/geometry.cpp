@@ -1,0 +1,723 @@
+#include <iraf_vo/tracking/geometry.h>
+
+#include <ceres/ceres.h>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <memory>
+
+namespace iraf_vo {
+
+namespace {
+
+Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return m;
+}
+
+// Pose block layout: [tx ty tz qx qy qz qw] of T_c_w. Tangent: [dt, dtheta] with the left perturbation
+// t' = t + dt, R' = Exp(dtheta) R. The cost functions fill the first 6 columns of their 2x7 pose Jacobian
+// with the tangent Jacobian, so PlusJacobian = [I6; 0].
+class PoseManifold final : public ceres::Manifold {
+ public:
+  int AmbientSize() const override { return 7; }
+  int TangentSize() const override { return 6; }
+  bool Plus(const double* x, const double* delta, double* x_plus_delta) const override {
+    Eigen::Map<const Eigen::Vector3d> t(x);
+    Eigen::Map<const Eigen::Quaterniond> q(x + 3);
+    Eigen::Map<const Eigen::Vector3d> dt(delta);
+    Eigen::Map<const Eigen::Vector3d> dth(delta + 3);
+    Eigen::Map<Eigen::Vector3d> t_out(x_plus_delta);
+    Eigen::Map<Eigen::Quaterniond> q_out(x_plus_delta + 3);
+    const double angle = dth.norm();
+    Eigen::Quaterniond dq = angle > 1e-12 ? Eigen::Quaterniond(Eigen::AngleAxisd(angle, dth / angle))
+                                          : Eigen::Quaterniond(1.0, 0.5 * dth.x(), 0.5 * dth.y(), 0.5 * dth.z());
+    q_out = (dq * q).normalized();
+    t_out = t + dt;
+    return true;
+  }
+  bool PlusJacobian(const double*, double* jacobian) const override {
+    Eigen::Map<Eigen::Matrix<double, 7, 6, Eigen::RowMajor>> J(jacobian);
+    J.setZero();
+    J.topRows<6>().setIdentity();
+    return true;
+  }
+  bool Minus(const double* y, const double* x, double* y_minus_x) const override {
+    Eigen::Map<const Eigen::Vector3d> ty(y), tx(x);
+    Eigen::Map<const Eigen::Quaterniond> qy(y + 3), qx(x + 3);
+    Eigen::Map<Eigen::Vector3d> dt(y_minus_x), dth(y_minus_x + 3);
+    dt = ty - tx;
+    Eigen::AngleAxisd aa(qy * qx.conjugate());
+    dth = aa.angle() * aa.axis();
+    return true;
+  }
+  bool MinusJacobian(const double*, double* jacobian) const override {
+    Eigen::Map<Eigen::Matrix<double, 6, 7, Eigen::RowMajor>> J(jacobian);
+    J.setZero();
+    J.leftCols<6>().setIdentity();
+    return true;
+  }
+};
+
+void poseToBlock(const Eigen::Isometry3d& T, double* b) {
+  (Eigen::Map<Eigen::Vector3d>(b)) = T.translation();
+  Eigen::Quaterniond q(T.rotation());
+  q.normalize();
+  b[3] = q.x(); b[4] = q.y(); b[5] = q.z(); b[6] = q.w();
+}
+
+Eigen::Isometry3d blockToPose(const double* b) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  Eigen::Quaterniond q(b[6], b[3], b[4], b[5]);
+  T.linear() = q.normalized().toRotationMatrix();
+  T.translation() = Eigen::Vector3d(b[0], b[1], b[2]);
+  return T;
+}
+
+// r = (pi(R p_w + t) - uv) / sigma
+class ReprojectionCost final : public ceres::SizedCostFunction<2, 7, 3> {
+ public:
+  ReprojectionCost(const CameraModel* cam, const Eigen::Vector2d& uv, double sigma)
+      : cam_(cam), uv_(uv), inv_sigma_(1.0 / sigma) {}
+  bool Evaluate(double const* const* params, double* residuals, double** jacobians) const override {
+    Eigen::Map<const Eigen::Vector3d> t(params[0]);
+    Eigen::Map<const Eigen::Quaterniond> q(params[0] + 3);
+    Eigen::Map<const Eigen::Vector3d> p_w(params[1]);
+    const Eigen::Matrix3d R = q.toRotationMatrix();
+    const Eigen::Vector3d Rp = R * p_w;
+    const Eigen::Vector3d p_c = Rp + t;
+    Eigen::Vector2d uv;
+    Eigen::Matrix<double, 2, 3> J;
+    if (p_c.z() <= 1e-6 || !cam_->project(p_c, &uv, &J)) return false;
+    (Eigen::Map<Eigen::Vector2d>(residuals)) = (uv - uv_) * inv_sigma_;
+    if (jacobians) {
+      J *= inv_sigma_;
+      if (jacobians[0]) {
+        Eigen::Map<Eigen::Matrix<double, 2, 7, Eigen::RowMajor>> Jp(jacobians[0]);
+        Jp.leftCols<3>() = J;
+        Jp.block<2, 3>(0, 3) = -J * skew(Rp);
+        Jp.col(6).setZero();
+      }
+      if (jacobians[1]) {
+        Eigen::Map<Eigen::Matrix<double, 2, 3, Eigen::RowMajor>> Jx(jacobians[1]);
+        Jx = J * R;
+      }
+    }
+    return true;
+  }
+
+ private:
+  const CameraModel* cam_;
+  Eigen::Vector2d uv_;
+  double inv_sigma_;
+};
+
+class PoseOnlyCost final : public ceres::SizedCostFunction<2, 7> {
+ public:
+  PoseOnlyCost(const CameraModel* cam, const Eigen::Vector3d& p_w, const Eigen::Vector2d& uv, double sigma)
+      : cam_(cam), p_w_(p_w), uv_(uv), inv_sigma_(1.0 / sigma) {}
+  bool Evaluate(double const* const* params, double* residuals, double** jacobians) const override {
+    Eigen::Map<const Eigen::Vector3d> t(params[0]);
+    Eigen::Map<const Eigen::Quaterniond> q(params[0] + 3);
+    const Eigen::Vector3d Rp = q.toRotationMatrix() * p_w_;
+    const Eigen::Vector3d p_c = Rp + t;
+    Eigen::Vector2d uv;
+    Eigen::Matrix<double, 2, 3> J;
+    if (p_c.z() <= 1e-6 || !cam_->project(p_c, &uv, &J)) return false;
+    (Eigen::Map<Eigen::Vector2d>(residuals)) = (uv - uv_) * inv_sigma_;
+    if (jacobians && jacobians[0]) {
+      J *= inv_sigma_;
+      Eigen::Map<Eigen::Matrix<double, 2, 7, Eigen::RowMajor>> Jp(jacobians[0]);
+      Jp.leftCols<3>() = J;
+      Jp.block<2, 3>(0, 3) = -J * skew(Rp);
+      Jp.col(6).setZero();
+    }
+    return true;
+  }
+
+ private:
+  const CameraModel* cam_;
+  Eigen::Vector3d p_w_;
+  Eigen::Vector2d uv_;
+  double inv_sigma_;
+};
+
+class AbortCallback final : public ceres::IterationCallback {
+ public:
+  explicit AbortCallback(const std::atomic<bool>* flag) : flag_(flag) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary&) override {
+    return (flag_ && flag_->load()) ? ceres::SOLVER_TERMINATE_SUCCESSFULLY : ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  const std::atomic<bool>* flag_;
+};
+
+// Pinhole without distortion on normalized coordinates scaled by `focal` (principal point 0): lets the two-view
+// refinement reuse bundleAdjust() on bearings with pixel-like residuals.
+class NormalizedPinhole final : public CameraModel {
+ public:
+  explicit NormalizedPinhole(double f) : f_(f) {}
+  std::string modelName() const override { return "normalized"; }
+  bool project(const Eigen::Vector3d& p, Eigen::Vector2d* uv, Eigen::Matrix<double, 2, 3>* J) const override {
+    if (p.z() <= 1e-9) return false;
+    const double iz = 1.0 / p.z();
+    *uv = Eigen::Vector2d(f_ * p.x() * iz, f_ * p.y() * iz);
+    if (J) *J << f_ * iz, 0, -f_ * p.x() * iz * iz, 0, f_ * iz, -f_ * p.y() * iz * iz;
+    return true;
+  }
+  bool unproject(const Eigen::Vector2d& uv, Eigen::Vector3d* b) const override {
+    *b = Eigen::Vector3d(uv.x() / f_, uv.y() / f_, 1.0).normalized();
+    return true;
+  }
+  std::vector<double> parameters() const override { return {f_, f_, 0, 0}; }
+  double focal() const override { return f_; }
+
+ private:
+  double f_;
+};
+
+Eigen::Vector2d normalized(const Eigen::Vector3d& b) { return Eigen::Vector2d(b.x() / b.z(), b.y() / b.z()); }
+
+// ORB-SLAM style scores (pixel units through `focal`): sum over both directions of (gate - e^2/sigma^2).
+double scoreHomography(const Eigen::Matrix3d& H, const std::vector<Eigen::Vector2d>& p1,
+                       const std::vector<Eigen::Vector2d>& p2, double focal, double sigma, std::vector<char>* inl) {
+  const Eigen::Matrix3d Hinv = H.inverse();
+  const double th = 5.991, inv_s2 = 1.0 / (sigma * sigma), f2 = focal * focal;
+  double score = 0.0;
+  inl->assign(p1.size(), 0);
+  for (size_t i = 0; i < p1.size(); ++i) {
+    const Eigen::Vector3d a = H * p1[i].homogeneous(), b = Hinv * p2[i].homogeneous();
+    const double e21 = (a.hnormalized() - p2[i]).squaredNorm() * f2 * inv_s2;
+    const double e12 = (b.hnormalized() - p1[i]).squaredNorm() * f2 * inv_s2;
+    if (e21 > th || e12 > th) continue;
+    (*inl)[i] = 1;
+    score += (th - e21) + (th - e12);
+  }
+  return score;
+}
+
+double scoreEssential(const Eigen::Matrix3d& E, const std::vector<Eigen::Vector2d>& p1,
+                      const std::vector<Eigen::Vector2d>& p2, double focal, double sigma, std::vector<char>* inl) {
+  const double th = 3.841, th_score = 5.991, inv_s2 = 1.0 / (sigma * sigma), f2 = focal * focal;
+  double score = 0.0;
+  inl->assign(p1.size(), 0);
+  for (size_t i = 0; i < p1.size(); ++i) {
+    const Eigen::Vector3d x1 = p1[i].homogeneous(), x2 = p2[i].homogeneous();
+    const Eigen::Vector3d l2 = E * x1, l1 = E.transpose() * x2;
+    const double num = x2.dot(l2);
+    const double e2 = num * num / (l2.head<2>().squaredNorm() + 1e-18) * f2 * inv_s2;  // distance in image 2
+    const double e1 = num * num / (l1.head<2>().squaredNorm() + 1e-18) * f2 * inv_s2;
+    if (e1 > th || e2 > th) continue;
+    (*inl)[i] = 1;
+    score += (th_score - e1) + (th_score - e2);
+  }
+  return score;
+}
+
+struct Hypothesis {
+  Eigen::Matrix3d R;
+  Eigen::Vector3d t;
+  int good = 0;
+  double parallax_deg = 0.0;
+  std::vector<Eigen::Vector3d> points;
+  std::vector<char> ok;
+};
+
+// Triangulate the inliers with (R, t): cheirality, reprojection (pixels via focal) and parallax checks.
+void checkRT(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, const std::vector<Eigen::Vector3d>& b1,
+             const std::vector<Eigen::Vector3d>& b2, const std::vector<char>& inl, double focal, double th_px,
+             Hypothesis* h) {
+  h->R = R;
+  h->t = t;
+  h->good = 0;
+  h->points.assign(b1.size(), Eigen::Vector3d::Zero());
+  h->ok.assign(b1.size(), 0);
+  Eigen::Isometry3d T1 = Eigen::Isometry3d::Identity(), T2 = Eigen::Isometry3d::Identity();
+  T2.linear() = R;
+  T2.translation() = t;
+  const double th2 = th_px * th_px * 4.0;  // chi2-like gate: (2 sigma)^2
+  std::vector<double> parallaxes;
+  for (size_t i = 0; i < b1.size(); ++i) {
+    if (!inl[i]) continue;
+    Eigen::Vector3d X;
+    if (!triangulateBearings(T1, b1[i], T2, b2[i], &X) || !X.allFinite()) continue;
+    const Eigen::Vector3d X2 = R * X + t;
+    if (X.z() <= 0 || X2.z() <= 0) continue;
+    // angular reprojection error converted to pixels
+    const double e1 = (X.normalized() - b1[i].normalized()).squaredNorm() * focal * focal;
+    const double e2 = (X2.normalized() - b2[i].normalized()).squaredNorm() * focal * focal;
+    if (e1 > th2 || e2 > th2) continue;
+    const double cosp = X.normalized().dot((X + R.transpose() * t).normalized());  // rays from both centres
+    h->points[i] = X;
+    h->ok[i] = 1;
+    ++h->good;
+    parallaxes.push_back(std::acos(std::clamp(cosp, -1.0, 1.0)) * 180.0 / M_PI);
+  }
+  if (!parallaxes.empty()) {
+    std::nth_element(parallaxes.begin(), parallaxes.begin() + parallaxes.size() / 2, parallaxes.end());
+    h->parallax_deg = parallaxes[parallaxes.size() / 2];
+  }
+}
+
+}  // namespace
+
+bool triangulateBearings(const Eigen::Isometry3d& T1, const Eigen::Vector3d& b1, const Eigen::Isometry3d& T2,
+                         const Eigen::Vector3d& b2, Eigen::Vector3d* p_w) {
+  Eigen::Matrix4d A;
+  const Eigen::Matrix<double, 3, 4> P1 = T1.matrix().topRows<3>(), P2 = T2.matrix().topRows<3>();
+  const Eigen::Vector3d u1 = b1.normalized(), u2 = b2.normalized();
+  // Two independent rows of [u]x P X = 0 per view: choose the rows with the largest |u| component excluded.
+  auto rows = [](const Eigen::Vector3d& u, const Eigen::Matrix<double, 3, 4>& P, Eigen::Matrix<double, 2, 4>* out) {
+    Eigen::Matrix<double, 3, 4> C = skew(u) * P;
+    int k;
+    u.cwiseAbs().maxCoeff(&k);
+    int r = 0;
+    for (int i = 0; i < 3; ++i)
+      if (i != k) out->row(r++) = C.row(i);
+  };
+  Eigen::Matrix<double, 2, 4> r1, r2;
+  rows(u1, P1, &r1);
+  rows(u2, P2, &r2);
+  A << r1, r2;
+  Eigen::JacobiSVD<Eigen::Matrix4d> svd(A, Eigen::ComputeFullV);
+  const Eigen::Vector4d X = svd.matrixV().col(3);
+  if (std::abs(X(3)) < 1e-12) return false;
+  *p_w = X.head<3>() / X(3);
+  return p_w->allFinite();
+}
+
+double parallaxAngle(const Eigen::Isometry3d& T1, const Eigen::Isometry3d& T2, const Eigen::Vector3d& p) {
+  const Eigen::Vector3d c1 = T1.inverse().translation(), c2 = T2.inverse().translation();
+  const double c = (p - c1).normalized().dot((p - c2).normalized());
+  return std::acos(std::clamp(c, -1.0, 1.0));
+}
+
+double reprojectionError2(const CameraModel& cam, const Eigen::Isometry3d& T_c_w, const Eigen::Vector3d& p_w,
+                          const Eigen::Vector2d& uv) {
+  const Eigen::Vector3d p_c = T_c_w * p_w;
+  Eigen::Vector2d pr;
+  if (p_c.z() <= 1e-6 || !cam.project(p_c, &pr)) return -1.0;
+  return (pr - uv).squaredNorm();
+}
+
+TwoViewResult initializeTwoView(const std::vector<Eigen::Vector3d>& b1_in, const std::vector<Eigen::Vector3d>& b2_in,
+                                double focal, const TwoViewParams& params) {
+  TwoViewResult res;
+  const size_t n_all = b1_in.size();
+  res.points.assign(n_all, Eigen::Vector3d::Zero());
+  res.triangulated.assign(n_all, 0);
+  if (b2_in.size() != n_all) {
+    res.reason = "bearing vectors of different sizes";
+    return res;
+  }
+  // Only rays in front of both cameras have normalized coordinates (fisheye rays beyond 90 deg are dropped).
+  std::vector<int> idx;
+  std::vector<Eigen::Vector3d> b1, b2;
+  std::vector<Eigen::Vector2d> p1, p2;
+  std::vector<cv::Point2f> c1, c2;
+  for (size_t i = 0; i < n_all; ++i) {
+    if (b1_in[i].z() < 0.1 || b2_in[i].z() < 0.1) continue;
+    idx.push_back(static_cast<int>(i));
+    b1.push_back(b1_in[i]);
+    b2.push_back(b2_in[i]);
+    p1.push_back(normalized(b1_in[i]));
+    p2.push_back(normalized(b2_in[i]));
+    c1.emplace_back(p1.back().x(), p1.back().y());
+    c2.emplace_back(p2.back().x(), p2.back().y());
+  }
+  if (idx.size() < static_cast<size_t>(std::max(8, params.min_triangulated))) {
+    res.reason = "too few matches (" + std::to_string(idx.size()) + ")";
+    return res;
+  }
+  const double th_norm = params.threshold_px / focal;
+  cv::Mat maskE, maskH;
+  cv::Mat E = cv::findEssentialMat(c1, c2, cv::Mat::eye(3, 3, CV_64F), cv::RANSAC, 0.999, th_norm, maskE);
+  cv::Mat H = cv::findHomography(c1, c2, cv::RANSAC, th_norm, maskH, 2000, 0.999);
+  Eigen::Matrix3d Ee = Eigen::Matrix3d::Zero(), He = Eigen::Matrix3d::Zero();
+  std::vector<char> inlE, inlH;
+  const bool haveE = E.rows == 3 && E.cols == 3, haveH = H.rows == 3 && H.cols == 3;
+  if (haveE) {
+    cv::cv2eigen(E, Ee);
+    res.score_f = scoreEssential(Ee, p1, p2, focal, params.threshold_px, &inlE);
+  }
+  if (haveH) {
+    cv::cv2eigen(H, He);
+    res.score_h = scoreHomography(He, p1, p2, focal, params.threshold_px, &inlH);
+  }
+  if (!haveE && !haveH) {
+    res.reason = "no essential / homography model";
+    return res;
+  }
+  // Model selection, ORB-SLAM: R_H = S_H / (S_H + S_F).
+  const double rh = res.score_h / std::max(1e-9, res.score_h + res.score_f);
+  const bool use_h = haveH && (!haveE || rh > params.homography_ratio);
+
+  std::vector<Hypothesis> hyps;
+  if (use_h) {
+    res.model = "homography";
+    std::vector<cv::Mat> Rs, ts, ns;
+    cv::decomposeHomographyMat(H, cv::Mat::eye(3, 3, CV_64F), Rs, ts, ns);
+    for (size_t k = 0; k < Rs.size(); ++k) {
+      Eigen::Matrix3d R;
+      Eigen::Vector3d t;
+      cv::cv2eigen(Rs[k], R);
+      cv::cv2eigen(ts[k], t);
+      if (t.norm() < 1e-9) continue;
+      hyps.emplace_back();
+      checkRT(R, t.normalized(), b1, b2, inlH, focal, params.threshold_px, &hyps.back());
+    }
+  } else {
+    res.model = "essential";
+    cv::Mat R1, R2, t;
+    cv::decomposeEssentialMat(E, R1, R2, t);
+    Eigen::Matrix3d Ra, Rb;
+    Eigen::Vector3d te;
+    cv::cv2eigen(R1, Ra);
+    cv::cv2eigen(R2, Rb);
+    cv::cv2eigen(t, te);
+    for (const auto& R : {Ra, Rb})
+      for (double s : {1.0, -1.0}) {
+        hyps.emplace_back();
+        checkRT(R, s * te.normalized(), b1, b2, inlE, focal, params.threshold_px, &hyps.back());
+      }
+  }
+  if (hyps.empty()) {
+    res.reason = res.model + ": no decomposition";
+    return res;
+  }
+  std::sort(hyps.begin(), hyps.end(), [](const Hypothesis& a, const Hypothesis& b) { return a.good > b.good; });
+  const Hypothesis& best = hyps[0];
+  const int second = hyps.size() > 1 ? hyps[1].good : 0;
+  res.median_parallax_deg = best.parallax_deg;
+  res.num_triangulated = best.good;
+  if (best.good < params.min_triangulated) {
+    res.reason = res.model + ": too few triangulated points (" + std::to_string(best.good) + ")";
+    return res;
+  }
+  if (second > 0.75 * best.good) {
+    res.reason = res.model + ": ambiguous decomposition (" + std::to_string(best.good) + " vs " +
+                 std::to_string(second) + ")";
+    return res;
+  }
+  if (best.parallax_deg < params.min_parallax_deg) {
+    res.reason = res.model + ": parallax too low (" + std::to_string(best.parallax_deg) + " deg)";
+    return res;
+  }
+  // Gold-standard refinement: two-view BA on the triangulated inliers (frame 1 fixed; the scale gauge is fixed
+  // afterwards by normalizing |t| = 1).
+  NormalizedPinhole ncam(focal);
+  std::vector<BAKeyframe> kf(2);
+  kf[0].fixed = true;
+  kf[1].T_c_w.linear() = best.R;
+  kf[1].T_c_w.translation() = best.t;
+  std::vector<BAPoint> bp;
+  std::vector<BAObservation> bo;
+  std::vector<int> which;
+  for (size_t k = 0; k < idx.size(); ++k) {
+    if (!best.ok[k]) continue;
+    const int pi = static_cast<int>(bp.size());
+    bp.push_back({best.points[k]});
+    bo.push_back({0, pi, focal * p1[k], params.threshold_px});
+    bo.push_back({1, pi, focal * p2[k], params.threshold_px});
+    which.push_back(static_cast<int>(k));
+  }
+  BAOptions bao;
+  bao.max_num_iterations = 15;
+  bao.max_solver_time_in_seconds = 0.2;
+  bao.huber_delta = 1.0;
+  BASummary bs;
+  Eigen::Matrix3d R = best.R;
+  Eigen::Vector3d t = best.t;
+  double scale = 1.0;
+  if (bundleAdjust(ncam, &kf, &bp, bo, bao, &bs) && kf[1].T_c_w.translation().norm() > 1e-9) {
+    R = kf[1].T_c_w.rotation();
+    scale = 1.0 / kf[1].T_c_w.translation().norm();
+    t = kf[1].T_c_w.translation() * scale;
+  } else {
+    bs.outlier.assign(bo.size(), 0);
+    for (size_t i = 0; i < bp.size(); ++i) bp[i].p_w = best.points[which[i]];
+  }
+  res.ok = true;
+  res.R_21 = R;
+  res.t_21 = t;
+  int n = 0;
+  for (size_t i = 0; i < which.size(); ++i) {
+    if (bs.outlier[2 * i] || bs.outlier[2 * i + 1]) continue;
+    const Eigen::Vector3d X = bp[i].p_w * scale;
+    if (X.z() <= 0 || (R * X + t).z() <= 0) continue;
+    res.points[idx[which[i]]] = X;
+    res.triangulated[idx[which[i]]] = 1;
+    ++n;
+  }
+  res.num_triangulated = n;
+  if (n < params.min_triangulated) {
+    res.ok = false;
+    res.reason = res.model + ": too few points after refinement (" + std::to_string(n) + ")";
+  }
+  return res;
+}
+
+int solvePnPBearings(const std::vector<Eigen::Vector3d>& p_w, const std::vector<Eigen::Vector3d>& bearings,
+                     double focal, double threshold_px, int iterations, Eigen::Isometry3d* T_c_w,
+                     std::vector<char>* inliers) {
+  if (inliers) inliers->assign(p_w.size(), 0);
+  std::vector<cv::Point3f> obj;
+  std::vector<cv::Point2f> img;
+  std::vector<int> idx;
+  for (size_t i = 0; i < p_w.size() && i < bearings.size(); ++i) {
+    if (bearings[i].z() < 0.1 || !p_w[i].allFinite()) continue;
+    obj.emplace_back(p_w[i].x(), p_w[i].y(), p_w[i].z());
+    img.emplace_back(bearings[i].x() / bearings[i].z(), bearings[i].y() / bearings[i].z());
+    idx.push_back(static_cast<int>(i));
+  }
+  if (obj.size() < 6) return 0;
+  cv::Mat rvec, tvec, inl;
+  bool ok = false;
+  try {
+    ok = cv::solvePnPRansac(obj, img, cv::Mat::eye(3, 3, CV_64F), cv::noArray(), rvec, tvec, false, iterations,
+                            static_cast<float>(threshold_px / focal), 0.99, inl, cv::SOLVEPNP_AP3P);
+  } catch (const cv::Exception&) {
+    ok = false;
+  }
+  if (!ok || inl.rows < 6) return 0;
+  // Refine on the inliers (Levenberg-Marquardt in OpenCV).
+  std::vector<cv::Point3f> obj_in;
+  std::vector<cv::Point2f> img_in;
+  for (int r = 0; r < inl.rows; ++r) {
+    obj_in.push_back(obj[inl.at<int>(r)]);
+    img_in.push_back(img[inl.at<int>(r)]);
+  }
+  cv::solvePnPRefineLM(obj_in, img_in, cv::Mat::eye(3, 3, CV_64F), cv::noArray(), rvec, tvec);
+  cv::Mat Rcv;
+  cv::Rodrigues(rvec, Rcv);
+  Eigen::Matrix3d R;
+  Eigen::Vector3d t;
+  cv::cv2eigen(Rcv, R);
+  cv::cv2eigen(tvec, t);
+  if (!R.allFinite() || !t.allFinite()) return 0;
+  T_c_w->setIdentity();
+  T_c_w->linear() = R;
+  T_c_w->translation() = t;
+  if (inliers)
+    for (int r = 0; r < inl.rows; ++r) (*inliers)[idx[inl.at<int>(r)]] = 1;
+  return inl.rows;
+}
+
+namespace {
+
+// Robust cost of the current pose over the used observations: sum of Huber(|r|^2), r sigma-normalized.
+double poseCost(const CameraModel& cam, const Eigen::Isometry3d& T, const std::vector<Eigen::Vector3d>& p_w,
+                const std::vector<Eigen::Vector2d>& uv, const std::vector<double>& sigma, const std::vector<char>& use,
+                double delta, bool robust) {
+  double c = 0.0;
+  for (size_t i = 0; i < p_w.size(); ++i) {
+    if (!use[i]) continue;
+    const double e2 = reprojectionError2(cam, T, p_w[i], uv[i]);
+    if (e2 < 0) return std::numeric_limits<double>::infinity();
+    const double s2 = e2 / (sigma[i] * sigma[i]);
+    c += (!robust || s2 <= delta * delta) ? s2 : 2.0 * delta * std::sqrt(s2) - delta * delta;
+  }
+  return c;
+}
+
+// Levenberg-Marquardt on the 6-dof left perturbation (t' = t + dt, R' = Exp(dtheta) R) with Huber IRLS weights:
+// the same model and Jacobian as PoseOnlyCost, solved on 6x6 normal equations (no per-residual allocation).
+void solvePoseLM(const CameraModel& cam, const std::vector<Eigen::Vector3d>& p_w, const std::vector<Eigen::Vector2d>& uv,
+                 const std::vector<double>& sigma, const std::vector<char>& use, double delta, bool robust,
+                 int max_iterations, Eigen::Isometry3d* T) {
+  double lambda = 1e-4;
+  double cost = poseCost(cam, *T, p_w, uv, sigma, use, delta, robust);
+  for (int it = 0; it < max_iterations; ++it) {
+    Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
+    Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
+    const Eigen::Matrix3d R = T->rotation();
+    for (size_t i = 0; i < p_w.size(); ++i) {
+      if (!use[i]) continue;
+      const Eigen::Vector3d Rp = R * p_w[i];
+      const Eigen::Vector3d pc = Rp + T->translation();
+      Eigen::Vector2d pr;
+      Eigen::Matrix<double, 2, 3> J;
+      if (pc.z() <= 1e-6 || !cam.project(pc, &pr, &J)) continue;
+      const double is = 1.0 / sigma[i];
+      const Eigen::Vector2d r = (pr - uv[i]) * is;
+      Eigen::Matrix<double, 2, 6> Jp;
+      Jp.leftCols<3>() = J * is;
+      Jp.rightCols<3>() = -Jp.leftCols<3>() * skew(Rp);
+      const double e = r.norm();
+      const double w = (!robust || e <= delta) ? 1.0 : delta / e;  // Huber IRLS weight
+      H.noalias() += w * Jp.transpose() * Jp;
+      g.noalias() += w * Jp.transpose() * r;
+    }
+    bool improved = false;
+    for (int tries = 0; tries < 6 && !improved; ++tries) {
+      Eigen::Matrix<double, 6, 6> A = H;
+      A.diagonal() += lambda * H.diagonal().cwiseMax(1e-9);
+      const Eigen::Matrix<double, 6, 1> dx = A.ldlt().solve(-g);
+      if (!dx.allFinite()) break;
+      Eigen::Isometry3d Tn = *T;
+      const double ang = dx.tail<3>().norm();
+      const Eigen::Matrix3d dR =
+          ang > 1e-12 ? Eigen::AngleAxisd(ang, dx.tail<3>() / ang).toRotationMatrix() : Eigen::Matrix3d::Identity();
+      // Re-orthonormalize through a unit quaternion: Isometry3d::inverse() assumes R^T = R^-1, and products of
+      // slightly non-orthogonal matrices blow up through the constant-velocity model.
+      Tn.linear() = Eigen::Quaterniond(dR * R).normalized().toRotationMatrix();
+      Tn.translation() = T->translation() + dx.head<3>();
+      const double cn = poseCost(cam, Tn, p_w, uv, sigma, use, delta, robust);
+      if (cn < cost) {
+        *T = Tn;
+        improved = true;
+        const bool converged = (cost - cn) < 1e-10 * cost || dx.norm() < 1e-10;
+        cost = cn;
+        lambda = std::max(1e-7, lambda * 0.3);
+        if (converged) return;
+      } else {
+        lambda *= 10.0;
+      }
+    }
+    if (!improved) return;
+  }
+}
+
+}  // namespace
+
+int optimizePose(const CameraModel& cam, const std::vector<Eigen::Vector3d>& p_w, const std::vector<Eigen::Vector2d>& uv,
+                 const std::vector<double>& sigma, const PoseOptimizationOptions& options, Eigen::Isometry3d* T_c_w,
+                 std::vector<char>* inlier) {
+  const size_t n = p_w.size();
+  if (inlier->size() != n) inlier->assign(n, 1);
+  int n_inliers = 0;
+  for (int round = 0; round < std::max(1, options.rounds); ++round) {
+    // Huber only in the first rounds (ORB-SLAM drops the robust kernel in the last one).
+    const bool robust = round + 1 < options.rounds;
+    int used = 0;
+    for (size_t i = 0; i < n; ++i) {
+      if ((*inlier)[i] && reprojectionError2(cam, *T_c_w, p_w[i], uv[i]) < 0) (*inlier)[i] = 0;
+      used += (*inlier)[i];
+    }
+    if (used < 4) return 0;
+    if (!options.use_ceres) {
+      solvePoseLM(cam, p_w, uv, sigma, *inlier, options.huber_delta, robust, options.max_num_iterations, T_c_w);
+    } else {
+      double pose[7];
+      poseToBlock(*T_c_w, pose);
+      ceres::Problem::Options popts;
+      popts.manifold_ownership = ceres::TAKE_OWNERSHIP;
+      popts.loss_function_ownership = ceres::TAKE_OWNERSHIP;
+      popts.cost_function_ownership = ceres::TAKE_OWNERSHIP;
+      ceres::Problem problem(popts);
+      problem.AddParameterBlock(pose, 7, new PoseManifold);
+      for (size_t i = 0; i < n; ++i) {
+        if (!(*inlier)[i]) continue;
+        ceres::LossFunction* loss = robust ? new ceres::HuberLoss(options.huber_delta) : nullptr;
+        problem.AddResidualBlock(new PoseOnlyCost(&cam, p_w[i], uv[i], sigma[i]), loss, pose);
+      }
+      ceres::Solver::Options so;
+      so.linear_solver_type = ceres::DENSE_QR;
+      so.max_num_iterations = options.max_num_iterations;
+      so.num_threads = 1;
+      so.logging_type = ceres::SILENT;
+      ceres::Solver::Summary summary;
+      ceres::Solve(so, &problem, &summary);
+      *T_c_w = blockToPose(pose);
+    }
+    // chi2 classification over all observations (outliers may come back).
+    n_inliers = 0;
+    for (size_t i = 0; i < n; ++i) {
+      const double e2 = reprojectionError2(cam, *T_c_w, p_w[i], uv[i]);
+      const bool ok = e2 >= 0 && e2 / (sigma[i] * sigma[i]) <= options.chi2_threshold;
+      (*inlier)[i] = ok;
+      n_inliers += ok;
+    }
+    if (n_inliers < 4) return n_inliers;
+  }
+  return n_inliers;
+}
+
+double reprojectionRmse(const CameraModel& cam, const std::vector<BAKeyframe>& kfs, const std::vector<BAPoint>& pts,
+                        const std::vector<BAObservation>& obs) {
+  if (obs.empty()) return 0.0;
+  double s = 0.0;
+  for (const auto& o : obs) {
+    const double e2 = reprojectionError2(cam, kfs[o.keyframe].T_c_w, pts[o.point].p_w, o.uv);
+    s += e2 < 0 ? 1e6 : e2;
+  }
+  return std::sqrt(s / obs.size());
+}
+
+bool bundleAdjust(const CameraModel& cam, std::vector<BAKeyframe>* kfs, std::vector<BAPoint>* pts,
+                  const std::vector<BAObservation>& obs, const BAOptions& options, BASummary* summary) {
+  const auto t0 = std::chrono::steady_clock::now();
+  BASummary local;
+  BASummary& sum = summary ? *summary : local;
+  sum = BASummary();
+  sum.outlier.assign(obs.size(), 0);
+  if (obs.empty() || kfs->empty() || pts->empty()) return false;
+  std::vector<double> poses(7 * kfs->size());
+  for (size_t k = 0; k < kfs->size(); ++k) poseToBlock((*kfs)[k].T_c_w, &poses[7 * k]);
+  std::vector<double> points(3 * pts->size());
+  for (size_t i = 0; i < pts->size(); ++i) (Eigen::Map<Eigen::Vector3d>(&points[3 * i])) = (*pts)[i].p_w;
+
+  // Declared before the problem so they outlive it (shared by all residuals, not owned by the problem).
+  PoseManifold manifold;
+  std::unique_ptr<ceres::HuberLoss> huber(new ceres::HuberLoss(options.huber_delta));
+  ceres::HuberLoss* loss = huber.get();
+  ceres::Problem::Options popts;
+  popts.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  popts.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(popts);
+  std::vector<char> pose_added(kfs->size(), 0);
+  int n_res = 0;
+  for (size_t j = 0; j < obs.size(); ++j) {
+    const auto& o = obs[j];
+    if (reprojectionError2(cam, (*kfs)[o.keyframe].T_c_w, (*pts)[o.point].p_w, o.uv) < 0) {
+      sum.outlier[j] = 1;
+      continue;
+    }
+    double* pb = &poses[7 * o.keyframe];
+    if (!pose_added[o.keyframe]) {
+      problem.AddParameterBlock(pb, 7, &manifold);
+      if ((*kfs)[o.keyframe].fixed) problem.SetParameterBlockConstant(pb);
+      pose_added[o.keyframe] = 1;
+    }
+    problem.AddResidualBlock(new ReprojectionCost(&cam, o.uv, o.sigma), loss, pb, &points[3 * o.point]);
+    ++n_res;
+  }
+  bool ok = false;
+  if (n_res > 0) {
+    sum.initial_rmse_px = reprojectionRmse(cam, *kfs, *pts, obs);
+    ceres::Solver::Options so;
+    so.linear_solver_type = ceres::SPARSE_SCHUR;
+    so.max_num_iterations = options.max_num_iterations;
+    so.max_solver_time_in_seconds = options.max_solver_time_in_seconds;
+    so.num_threads = std::max(1, options.num_threads);
+    so.logging_type = ceres::SILENT;
+    AbortCallback cb(options.abort);
+    if (options.abort) so.callbacks.push_back(&cb);
+    ceres::Solver::Summary s;
+    ceres::Solve(so, &problem, &s);
+    ok = s.IsSolutionUsable();
+    sum.iterations = static_cast<int>(s.iterations.size());
+    if (ok) {
+      for (size_t k = 0; k < kfs->size(); ++k)
+        if (!(*kfs)[k].fixed) (*kfs)[k].T_c_w = blockToPose(&poses[7 * k]);
+      for (size_t i = 0; i < pts->size(); ++i) (*pts)[i].p_w = Eigen::Map<Eigen::Vector3d>(&points[3 * i]);
+    }
+    for (size_t j = 0; j < obs.size(); ++j) {
+      const auto& o = obs[j];
+      const double e2 = reprojectionError2(cam, (*kfs)[o.keyframe].T_c_w, (*pts)[o.point].p_w, o.uv);
+      sum.outlier[j] = e2 < 0 || e2 / (o.sigma * o.sigma) > options.chi2_threshold;
+    }
+    sum.final_rmse_px = reprojectionRmse(cam, *kfs, *pts, obs);
+    sum.ran = true;
+  }
+  sum.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return ok;
+}
+
+}  // namespace iraf_vo

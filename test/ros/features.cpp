@@ -1,0 +1,187 @@
+// rostest of FeatureNodelet: lazy subscription, image in -> Features out (stamp, array sizes, message
+// round trip to the core type), bad input dropped, debug image, live dynamic_reconfigure of a threshold.
+#include <gtest/gtest.h>
+
+#include <dynamic_reconfigure/client.h>
+#include <ros/ros.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/image_encodings.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include <cmath>
+#include <functional>
+#include <map>
+#include <mutex>
+
+#include "common/test_data.h"
+#include "iraf_vo/Features.h"
+#include "iraf_vo/FeaturesConfig.h"
+#include "iraf_vo/ros/feature_conversion.h"
+
+namespace enc = sensor_msgs::image_encodings;
+
+class FeatureNodeletTest : public ::testing::Test {
+ protected:
+  void SetUp() override { pub_ = nh_.advertise<sensor_msgs::Image>("image_enhanced", 10); }
+
+  static ros::Time stampOf(uint32_t id) { return ros::Time(2000.0 + id * 0.05); }
+  static uint32_t idOf(const ros::Time& t) { return static_cast<uint32_t>(std::lround((t.toSec() - 2000.0) / 0.05)); }
+
+  bool waitFor(const std::function<bool()>& cond, double seconds) {
+    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
+    while (ros::WallTime::now() < end) {
+      if (cond()) return true;
+      ros::WallDuration(0.01).sleep();
+    }
+    return cond();
+  }
+
+  void publish(const cv::Mat& gray, const std::string& encoding, uint32_t id) {
+    sensor_msgs::Image m;
+    m.header.stamp = stampOf(id);
+    m.header.frame_id = "cam0";
+    cv::Mat conv;
+    if (encoding == enc::MONO8) conv = gray;
+    else if (encoding == enc::BGR8) cv::cvtColor(gray, conv, cv::COLOR_GRAY2BGR);
+    else gray.convertTo(conv, CV_32F);  // unsupported encoding: float data
+    m.encoding = encoding;
+    m.height = conv.rows;
+    m.width = conv.cols;
+    m.step = conv.cols * conv.elemSize();
+    m.data.assign(conv.data, conv.data + conv.total() * conv.elemSize());
+    pub_.publish(m);
+  }
+
+  iraf_vo::FeaturesConstPtr roundTrip(const cv::Mat& gray, const std::string& encoding, uint32_t id) {
+    publish(gray, encoding, id);
+    iraf_vo::FeaturesConstPtr out;
+    waitFor([&] {
+      std::lock_guard<std::mutex> l(mutex_);
+      auto it = features_.find(id);
+      if (it != features_.end()) out = it->second;
+      return out != nullptr;
+    }, 5.0);
+    return out;
+  }
+
+  void reconfigure(const std::function<void(iraf_vo::FeaturesConfig&)>& change) {
+    dynamic_reconfigure::Client<iraf_vo::FeaturesConfig> client("features");
+    iraf_vo::FeaturesConfig cfg;
+    ASSERT_TRUE(client.getCurrentConfiguration(cfg, ros::Duration(5.0)));
+    change(cfg);
+    ASSERT_TRUE(client.setConfiguration(cfg));
+  }
+
+  ros::NodeHandle nh_;
+  ros::Publisher pub_;
+  ros::Subscriber feat_sub_, image_sub_;
+  std::mutex mutex_;
+  std::map<uint32_t, iraf_vo::FeaturesConstPtr> features_;
+  std::map<uint32_t, sensor_msgs::ImageConstPtr> images_;
+};
+
+TEST_F(FeatureNodeletTest, FeaturesOutStampsSizesBadInputAndLiveTuning) {
+  ros::WallDuration(1.0).sleep();
+  EXPECT_EQ(pub_.getNumSubscribers(), 0u) << "FeatureNodelet subscribed although nobody listens";
+
+  feat_sub_ = nh_.subscribe<iraf_vo::Features>("features", 20, [this](const iraf_vo::FeaturesConstPtr& m) {
+    std::lock_guard<std::mutex> l(mutex_);
+    features_[idOf(m->header.stamp)] = m;
+  });
+  ASSERT_TRUE(waitFor([&] { return pub_.getNumSubscribers() > 0; }, 15.0)) << "nodelet never subscribed";
+  ros::WallDuration(0.5).sleep();
+
+  const cv::Mat img = iraf_vo_test::texturedImage(320, 240);
+  uint32_t id = 1;
+  for (const std::string& e : {enc::MONO8, enc::BGR8}) {
+    const auto f = roundTrip(img, e, id);
+    ASSERT_TRUE(f) << "no Features for encoding " << e;
+    EXPECT_EQ(f->header.stamp, stampOf(id));
+    EXPECT_EQ(f->header.frame_id, "cam0");
+    EXPECT_EQ(f->width, 320u);
+    EXPECT_EQ(f->height, 240u);
+    const size_t n = f->x.size();
+    EXPECT_GT(n, 50u);
+    EXPECT_LE(n, 510u);  // n_features = 500 from the launch file
+    EXPECT_EQ(f->y.size(), n);
+    EXPECT_EQ(f->size.size(), n);
+    EXPECT_EQ(f->angle.size(), n);
+    EXPECT_EQ(f->response.size(), n);
+    EXPECT_EQ(f->octave.size(), n);
+    EXPECT_EQ(f->fast_threshold.size(), n);
+    EXPECT_EQ(f->stability.size(), n);
+    EXPECT_EQ(f->descriptors.size(), 32 * n);
+    EXPECT_EQ(f->detected, static_cast<int>(n) + f->culled);
+    EXPECT_GT(f->global_threshold, 0.f);
+    EXPECT_LE(f->cell_threshold_min, f->cell_threshold_median);
+    EXPECT_LE(f->cell_threshold_median, f->cell_threshold_max);
+    // The message rebuilds a core FeatureFrame.
+    iraf_vo::FeatureFrame core;
+    std::string err;
+    ASSERT_TRUE(iraf_vo::fromMsg(*f, &core, &err)) << err;
+    EXPECT_EQ(core.keypoints.size(), n);
+    EXPECT_EQ(core.descriptors.rows, static_cast<int>(n));
+    EXPECT_NEAR(core.stamp, stampOf(id).toSec(), 1e-6);
+    ++id;
+  }
+  {
+    std::lock_guard<std::mutex> l(mutex_);
+    EXPECT_EQ(features_[1]->x, features_[2]->x) << "mono8 and bgr8 of the same image differ";
+  }
+
+  // Bad input is dropped; the next good frame still arrives.
+  const uint32_t bad = id++, empty = id++;
+  publish(img, enc::TYPE_32FC1, bad);
+  publish(cv::Mat(0, 0, CV_8U), enc::MONO8, empty);
+  ASSERT_TRUE(roundTrip(img, enc::MONO8, id++)) << "nodelet stopped after bad input";
+  {
+    std::lock_guard<std::mutex> l(mutex_);
+    EXPECT_EQ(features_.count(bad), 0u);
+    EXPECT_EQ(features_.count(empty), 0u);
+  }
+
+  // Debug image: bgr8, same size, published only while subscribed.
+  image_sub_ = nh_.subscribe<sensor_msgs::Image>("features_image", 5, [this](const sensor_msgs::ImageConstPtr& m) {
+    std::lock_guard<std::mutex> l(mutex_);
+    images_[idOf(m->header.stamp)] = m;
+  });
+  ros::WallDuration(0.5).sleep();
+  const uint32_t dbg = id++;
+  ASSERT_TRUE(roundTrip(img, enc::MONO8, dbg));
+  ASSERT_TRUE(waitFor([&] { std::lock_guard<std::mutex> l(mutex_); return images_.count(dbg) > 0; }, 5.0));
+  {
+    std::lock_guard<std::mutex> l(mutex_);
+    EXPECT_EQ(images_[dbg]->encoding, enc::BGR8);
+    EXPECT_EQ(images_[dbg]->width, 320u);
+    EXPECT_EQ(images_[dbg]->height, 240u);
+  }
+
+  // Live tuning: adaptive off with a fixed threshold of 45 -> reported thresholds follow.
+  const auto before = roundTrip(img, enc::MONO8, id++);
+  ASSERT_TRUE(before);
+  reconfigure([](iraf_vo::FeaturesConfig& c) {
+    c.adaptive_threshold = false;
+    c.ini_th_fast = 45;
+    c.min_th_fast = 45;
+    c.culling = false;
+  });
+  const auto after = roundTrip(img, enc::MONO8, id++);
+  ASSERT_TRUE(after);
+  EXPECT_FLOAT_EQ(after->global_threshold, 45.f);
+  EXPECT_FLOAT_EQ(after->cell_threshold_min, 45.f);
+  EXPECT_FLOAT_EQ(after->cell_threshold_max, 45.f);
+  EXPECT_EQ(after->culled, 0);
+  EXPECT_NE(after->global_threshold, before->global_threshold);
+  for (int16_t t : after->fast_threshold) EXPECT_EQ(t, 45);
+  EXPECT_LT(after->x.size(), before->x.size());
+}
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "feature_nodelet_test");
+  ros::NodeHandle nh;
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  return RUN_ALL_TESTS();
+}

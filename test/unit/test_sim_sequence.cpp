@@ -1,0 +1,181 @@
+// Sequence output: ASL folder + TUM ground truth written by simulateSequence / iraf_vo_simulate, and
+// iraf_vo_degrade keeping ground truth, calibration and the image count (missing images skipped).
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "iraf_vo/camera/camera_loader.h"
+#include "iraf_vo/sim/photometric.h"
+#include "iraf_vo/sim/sequence.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string freshDir(const std::string& name) {
+  const std::string d = ::testing::TempDir() + "/iraf_vo_sim_" + name;
+  fs::remove_all(d);
+  return d;
+}
+
+std::vector<std::string> dataLines(const std::string& path) {
+  std::ifstream f(path);
+  std::vector<std::string> out;
+  std::string line;
+  while (std::getline(f, line))
+    if (!line.empty() && line[0] != '#') out.push_back(line);
+  return out;
+}
+
+std::string slurp(const std::string& path) {
+  std::ifstream f(path);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+TEST(SimSequence, WritesAslFolderAndTumGroundTruth) {
+  std::string err;
+  auto cam = iraf_vo::makeSimCamera("fisheye", 128, 128, &err);
+  ASSERT_TRUE(cam) << err;
+  iraf_vo::SceneParams sp;
+  sp.texels_per_m = 64;
+  sp.photo_dir.clear();  // procedural only
+  auto scene = std::make_shared<const iraf_vo::Scene>(iraf_vo::Scene::makeDefaultRoom(sp));
+  iraf_vo::SimParams params;
+  params.frames = 6;
+  iraf_vo::Renderer r(cam, scene, params);
+  iraf_vo::PhotometricParams ph;
+  ASSERT_TRUE(iraf_vo::photometricPreset("mixed", params.frames, false, 1, &ph));
+  const std::string out = freshDir("seq");
+  int calls = 0;
+  iraf_vo::SimulateReport rep;
+  ASSERT_TRUE(iraf_vo::simulateSequence(r, iraf_vo::TrajectoryParams(), ph, out,
+                                        [&](const iraf_vo::SimFrame& f) { calls += f.image.type() == CV_8UC1; }, &rep,
+                                        &err))
+      << err;
+  EXPECT_EQ(calls, 6);
+  const auto rows = dataLines(out + "/mav0/cam0/data.csv");
+  ASSERT_EQ(rows.size(), 6u);
+  EXPECT_EQ(rows[1], "1000000000050000000,1000000000050000000.png");  // 20 Hz, ns
+  for (const auto& row : rows) {
+    const cv::Mat img = cv::imread(out + "/mav0/cam0/data/" + row.substr(row.find(',') + 1), cv::IMREAD_UNCHANGED);
+    ASSERT_FALSE(img.empty()) << row;
+    EXPECT_EQ(img.type(), CV_8UC1);
+    EXPECT_EQ(img.cols, 128);
+  }
+  // sensor.yaml reads back as the same camera (Kalibr layout, equidistant).
+  auto back = iraf_vo::loadCamera(out + "/mav0/cam0/sensor.yaml", &err);
+  ASSERT_TRUE(back) << err;
+  EXPECT_EQ(back->modelName(), "kannala-brandt");
+  const auto p0 = cam->parameters(), p1 = back->parameters();
+  ASSERT_EQ(p0.size(), p1.size());
+  for (size_t i = 0; i < p0.size(); ++i) EXPECT_NEAR(p0[i], p1[i], 1e-12);
+  const std::string yaml = slurp(out + "/mav0/cam0/sensor.yaml");
+  EXPECT_NE(yaml.find("rate_hz: 20"), std::string::npos);
+  EXPECT_NE(yaml.find("distortion_model: equidistant"), std::string::npos);
+  // TUM ground truth: seconds with 9 decimals, unit quaternion matching the trajectory.
+  const auto gt = dataLines(out + "/groundtruth.txt");
+  ASSERT_EQ(gt.size(), 6u);
+  std::istringstream ls(gt[2]);
+  std::string t;
+  double x, y, z, qx, qy, qz, qw;
+  ls >> t >> x >> y >> z >> qx >> qy >> qz >> qw;
+  EXPECT_EQ(t, "1000000000.100000000");
+  const Eigen::Isometry3d T = iraf_vo::trajectoryPose(iraf_vo::TrajectoryParams(), 0.1);
+  EXPECT_NEAR((Eigen::Vector3d(x, y, z) - T.translation()).norm(), 0.0, 1e-8);
+  const Eigen::Quaterniond q(qw, qx, qy, qz);
+  EXPECT_NEAR(q.norm(), 1.0, 1e-8);
+  EXPECT_LT(Eigen::AngleAxisd(q.toRotationMatrix().transpose() * T.linear()).angle(), 1e-7);
+  EXPECT_EQ(dataLines(out + "/events.csv").size(), ph.events.size());
+}
+
+/// A tiny ASL sequence: n images (one row without its file), ground truth folders, sensor.yaml.
+std::string makeTinyAsl(const std::string& name, int n) {
+  const std::string dir = freshDir(name);
+  fs::create_directories(dir + "/mav0/cam0/data");
+  fs::create_directories(dir + "/mav0/state_groundtruth_estimate0");
+  fs::create_directories(dir + "/groundtruth");
+  std::ofstream(dir + "/groundtruth/groundtruth_tum_cam0.txt") << "# t x y z qx qy qz qw\n1.0 0 0 0 0 0 0 1\n";
+  std::ofstream(dir + "/mav0/state_groundtruth_estimate0/data.csv") << "#timestamp,p_x\n1000,0.5\n";
+  std::ofstream(dir + "/mav0/cam0/sensor.yaml") << "camera_model: pinhole\n";
+  std::ofstream csv(dir + "/mav0/cam0/data.csv");
+  csv << "#timestamp [ns],filename\n";
+  cv::RNG rng(1);
+  for (int i = 0; i < n; ++i) {
+    const std::string file = std::to_string(1000 + i * 50) + ".png";
+    csv << 1000 + i * 50 << "," << file << "\r\n";  // CRLF as in some EuRoC copies
+    if (i == 2) continue;                              // missing image
+    cv::Mat img(48, 64, CV_8UC1);
+    rng.fill(img, cv::RNG::UNIFORM, 40, 200);
+    cv::imwrite(dir + "/mav0/cam0/data/" + file, img);
+  }
+  csv << "1450,not_an_image.png\n";  // unreadable
+  std::ofstream(dir + "/mav0/cam0/data/not_an_image.png") << "garbage";
+  return dir;
+}
+
+TEST(SimDegrade, KeepsGroundTruthAndImageCount) {
+  const std::string in = makeTinyAsl("degrade_in", 8);
+  const std::string out = freshDir("degrade_out");
+  iraf_vo::PhotometricParams ph;
+  ASSERT_TRUE(iraf_vo::photometricPreset("dark", 9, true, 1, &ph));
+  iraf_vo::DegradeReport rep;
+  std::string err;
+  ASSERT_TRUE(iraf_vo::degradeAslSequence(in, out, ph, &rep, &err)) << err;
+  EXPECT_EQ(rep.images, 9);
+  EXPECT_EQ(rep.written, 7);
+  EXPECT_EQ(rep.skipped, 2);
+  EXPECT_EQ(dataLines(out + "/mav0/cam0/data.csv").size(), 7u);
+  EXPECT_EQ(slurp(out + "/groundtruth/groundtruth_tum_cam0.txt"), slurp(in + "/groundtruth/groundtruth_tum_cam0.txt"));
+  EXPECT_EQ(slurp(out + "/mav0/state_groundtruth_estimate0/data.csv"),
+            slurp(in + "/mav0/state_groundtruth_estimate0/data.csv"));
+  EXPECT_EQ(slurp(out + "/mav0/cam0/sensor.yaml"), slurp(in + "/mav0/cam0/sensor.yaml"));
+  EXPECT_TRUE(fs::exists(out + "/events.csv"));
+  // The middle frame (ramp bottom) is much darker than its input; the first frame is unchanged but for noise.
+  const cv::Mat a = cv::imread(in + "/mav0/cam0/data/1200.png", cv::IMREAD_GRAYSCALE);
+  const cv::Mat b = cv::imread(out + "/mav0/cam0/data/1200.png", cv::IMREAD_GRAYSCALE);
+  ASSERT_FALSE(b.empty());
+  EXPECT_LT(cv::mean(b)[0], 0.2 * cv::mean(a)[0]);
+  const cv::Mat a0 = cv::imread(in + "/mav0/cam0/data/1000.png", cv::IMREAD_GRAYSCALE);
+  const cv::Mat b0 = cv::imread(out + "/mav0/cam0/data/1000.png", cv::IMREAD_GRAYSCALE);
+  EXPECT_NEAR(cv::mean(b0)[0], cv::mean(a0)[0], 1.0);
+
+  // Missing dataset: error naming the path.
+  EXPECT_FALSE(iraf_vo::degradeAslSequence(in + "_nope", out + "2", ph, &rep, &err));
+  EXPECT_NE(err.find("_nope"), std::string::npos) << err;
+}
+
+int run(const std::string& cmd) {
+  const int rc = std::system((cmd + " > /dev/null 2>&1").c_str());
+  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+TEST(SimTools, CommandLines) {
+  const std::string bin = IRAF_VO_BIN_DIR;
+  if (!fs::exists(bin + "/iraf_vo_simulate") || !fs::exists(bin + "/iraf_vo_degrade"))
+    GTEST_SKIP() << "tools not built in " << bin << " (build the package first)";
+  const std::string out = freshDir("tool_sim");
+  ASSERT_EQ(run(bin + "/iraf_vo_simulate --preset flicker --out " + out + " --frames 4 --width 94 --height 60 --no-photos"), 0);
+  EXPECT_EQ(dataLines(out + "/mav0/cam0/data.csv").size(), 4u);
+  EXPECT_EQ(dataLines(out + "/groundtruth.txt").size(), 4u);
+  const std::string deg = freshDir("tool_deg");
+  EXPECT_EQ(run(bin + "/iraf_vo_degrade " + out + " " + deg + " --profile mixed --seed 3"), 0);
+  EXPECT_EQ(dataLines(deg + "/mav0/cam0/data.csv").size(), 4u);
+  EXPECT_EQ(slurp(deg + "/groundtruth.txt"), slurp(out + "/groundtruth.txt"));
+  // Bad input: non-zero exit.
+  EXPECT_NE(run(bin + "/iraf_vo_degrade /nonexistent/seq " + deg + "x --profile dark"), 0);
+  EXPECT_NE(run(bin + "/iraf_vo_degrade " + out + " " + deg + "y --profile sunny"), 0);
+  EXPECT_NE(run(bin + "/iraf_vo_simulate --preset nope --out " + out), 0);
+  EXPECT_NE(run(bin + "/iraf_vo_simulate --preset clean --out " + out + " --frames -3"), 0);
+  EXPECT_NE(run(bin + "/iraf_vo_simulate --preset clean --out " + out + " --camera /nonexistent.yaml"), 0);
+}
+
+}  // namespace

@@ -1,0 +1,212 @@
+// Two-view initialization, PnP, pose refinement and sliding-window BA on synthetic data, with a pinhole and an
+// equidistant fisheye model.
+#include <gtest/gtest.h>
+#include <iraf_vo/tracking/geometry.h>
+
+#include "unit/tracking_test_utils.h"
+
+using namespace iraf_vo;
+using namespace iraf_vo::test;
+
+namespace {
+
+std::shared_ptr<CameraModel> makeCam(bool fisheye) {
+  if (fisheye) return std::make_shared<TestFisheye>(752, 480, 250.0, 376.0, 240.0);
+  return std::make_shared<TestPinhole>(752, 480, 458.0, 367.0, 248.0);
+}
+
+// Matched bearings of random 3D points seen from T1 = identity and T2 (pixel noise through the model).
+void twoViews(const CameraModel& cam, const Eigen::Isometry3d& T2_c_w, bool planar, std::vector<Eigen::Vector3d>* b1,
+              std::vector<Eigen::Vector3d>* b2, std::mt19937* rng) {
+  std::uniform_real_distribution<double> ux(-3, 3), uy(-2, 2), uz(3, 7);
+  std::normal_distribution<double> nd(0.0, 0.5);
+  while (b1->size() < 300) {
+    Eigen::Vector3d X(ux(*rng), uy(*rng), planar ? 5.0 : uz(*rng));
+    Eigen::Vector2d u1, u2;
+    const Eigen::Vector3d X2 = T2_c_w * X;
+    if (!cam.project(X, &u1) || !cam.project(X2, &u2) || X2.z() < 0.5) continue;
+    if (u1.x() < 0 || u1.y() < 0 || u1.x() >= cam.width() || u1.y() >= cam.height()) continue;
+    if (u2.x() < 0 || u2.y() < 0 || u2.x() >= cam.width() || u2.y() >= cam.height()) continue;
+    u1 += Eigen::Vector2d(nd(*rng), nd(*rng));
+    u2 += Eigen::Vector2d(nd(*rng), nd(*rng));
+    Eigen::Vector3d a, b;
+    ASSERT_TRUE(cam.unproject(u1, &a));
+    ASSERT_TRUE(cam.unproject(u2, &b));
+    b1->push_back(a);
+    b2->push_back(b);
+  }
+}
+
+void checkInit(bool fisheye, bool planar) {
+  auto cam = makeCam(fisheye);
+  std::mt19937 rng(fisheye * 10 + planar);
+  const Eigen::Isometry3d T2 = makePose({3.0, -4.0, 2.0}, {0.4, 0.05, 0.1});  // T_c2_c1
+  std::vector<Eigen::Vector3d> b1, b2;
+  twoViews(*cam, T2, planar, &b1, &b2, &rng);
+  // 10 % gross outliers
+  for (size_t i = 0; i < b2.size(); i += 10) std::swap(b2[i], b2[(i + 137) % b2.size()]);
+  TwoViewParams p;
+  const TwoViewResult r = initializeTwoView(b1, b2, cam->focal(), p);
+  ASSERT_TRUE(r.ok) << r.reason;
+  if (planar) {
+    EXPECT_EQ(r.model, "homography");
+  }
+  EXPECT_LT(rotationErrorDeg(r.R_21, T2.rotation()), 0.5) << r.model;
+  const double tdir = std::acos(std::clamp(r.t_21.normalized().dot(T2.translation().normalized()), -1.0, 1.0));
+  EXPECT_LT(tdir * 180.0 / M_PI, 2.0) << r.model;
+  EXPECT_GE(r.num_triangulated, 200);
+  // Triangulated points are consistent with the true structure up to the scale of t.
+  const double s = T2.translation().norm();
+  int checked = 0;
+  for (size_t i = 0; i < b1.size(); ++i) {
+    if (!r.triangulated[i]) continue;
+    EXPECT_LT(std::acos(std::clamp(r.points[i].normalized().dot(b1[i].normalized()), -1.0, 1.0)), 0.01);
+    EXPECT_GT(r.points[i].z() * s, 2.0);
+    ++checked;
+  }
+  EXPECT_GT(checked, 0);
+}
+
+}  // namespace
+
+TEST(TrackingGeometry, TwoViewInitPinholeGeneral) { checkInit(false, false); }
+TEST(TrackingGeometry, TwoViewInitPinholePlanar) { checkInit(false, true); }
+TEST(TrackingGeometry, TwoViewInitFisheyeGeneral) { checkInit(true, false); }
+
+TEST(TrackingGeometry, TwoViewRejectsPureRotation) {
+  auto cam = makeCam(false);
+  std::mt19937 rng(3);
+  std::vector<Eigen::Vector3d> b1, b2;
+  twoViews(*cam, makePose({2.0, 3.0, 1.0}, {0, 0, 0}), false, &b1, &b2, &rng);
+  const TwoViewResult r = initializeTwoView(b1, b2, cam->focal(), TwoViewParams());
+  EXPECT_FALSE(r.ok);
+  EXPECT_FALSE(r.reason.empty());
+}
+
+TEST(TrackingGeometry, TriangulateBearings) {
+  const Eigen::Isometry3d T1 = makePose({0, 0, 0}, {0, 0, 0}), T2 = makePose({0, 5, 0}, {-0.5, 0, 0});
+  const Eigen::Vector3d X(0.3, -0.2, 4.0);
+  Eigen::Vector3d Y;
+  ASSERT_TRUE(triangulateBearings(T1, (T1 * X).normalized(), T2, (T2 * X).normalized(), &Y));
+  EXPECT_LT((X - Y).norm(), 1e-9);
+  EXPECT_GT(parallaxAngle(T1, T2, X), 0.05);
+}
+
+TEST(TrackingGeometry, PnPWithOutliers) {
+  for (bool fisheye : {false, true}) {
+    auto cam = makeCam(fisheye);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> ux(-3, 3), uy(-2, 2), uz(2, 8), upx(0, 700);
+    std::normal_distribution<double> nd(0.0, 0.5);
+    const Eigen::Isometry3d T_c_w = makePose({5, -10, 20}, {0.3, -0.2, 0.5});
+    std::vector<Eigen::Vector3d> P, B;
+    std::vector<bool> is_outlier;
+    while (P.size() < 200) {
+      const Eigen::Vector3d Xc(ux(rng), uy(rng), uz(rng));
+      Eigen::Vector2d uv;
+      if (!cam->project(Xc, &uv) || uv.x() < 0 || uv.y() < 0 || uv.x() >= 752 || uv.y() >= 480) continue;
+      const bool outlier = P.size() % 10 < 3;  // 30 %
+      if (outlier) uv = Eigen::Vector2d(upx(rng), upx(rng) * 480 / 700);
+      uv += Eigen::Vector2d(nd(rng), nd(rng));
+      Eigen::Vector3d b;
+      ASSERT_TRUE(cam->unproject(uv, &b));
+      P.push_back(T_c_w.inverse() * Xc);
+      B.push_back(b);
+      is_outlier.push_back(outlier);
+    }
+    Eigen::Isometry3d T;
+    std::vector<char> inl;
+    const int n = solvePnPBearings(P, B, cam->focal(), 2.0, 300, &T, &inl);
+    EXPECT_GE(n, 120) << cam->modelName();
+    EXPECT_LT(rotationErrorDeg(T.rotation(), T_c_w.rotation()), 0.3) << cam->modelName();
+    EXPECT_LT((T.translation() - T_c_w.translation()).norm(), 0.03) << cam->modelName();
+    int wrong = 0;
+    for (size_t i = 0; i < P.size(); ++i) wrong += inl[i] && is_outlier[i];
+    EXPECT_LE(wrong, 3);
+
+    // Pose-only Ceres refinement from a perturbed start rejects the outliers (chi2).
+    std::vector<Eigen::Vector2d> uv;
+    std::vector<double> sg(P.size(), 1.0);
+    for (const auto& b : B) {
+      Eigen::Vector2d u;
+      cam->project(b, &u);
+      uv.push_back(u);
+    }
+   for (bool ceres_solver : {false, true}) {
+    SCOPED_TRACE(ceres_solver ? "ceres" : "eigen LM");
+    Eigen::Isometry3d T0 = makePose({1, 1, -1}, {0.05, 0.05, -0.05}) * T_c_w;
+    std::vector<char> inl2(P.size(), 1);
+    PoseOptimizationOptions po;
+    po.use_ceres = ceres_solver;
+    const int n2 = optimizePose(*cam, P, uv, sg, po, &T0, &inl2);
+    EXPECT_GE(n2, 120);
+    EXPECT_LT(rotationErrorDeg(T0.rotation(), T_c_w.rotation()), 0.3);
+    EXPECT_LT((T0.translation() - T_c_w.translation()).norm(), 0.03);
+    int wrong2 = 0;
+    for (size_t i = 0; i < P.size(); ++i) wrong2 += inl2[i] && is_outlier[i];
+    EXPECT_LE(wrong2, 3);
+   }
+  }
+}
+
+TEST(TrackingGeometry, BundleAdjustmentConverges) {
+  for (bool fisheye : {false, true}) {
+    auto cam = makeCam(fisheye);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> ux(-3, 3), uy(-2, 2), uz(3, 8);
+    std::normal_distribution<double> nd(0.0, 1.0);
+    std::vector<BAKeyframe> kfs(6), truth_kfs;
+    for (int k = 0; k < 6; ++k) {
+      kfs[k].T_c_w = makePose({1.0 * k, -2.0 * k, 0.5 * k}, {0.2 * k, 0.03 * k, 0.02 * k}).inverse();
+      kfs[k].fixed = k < 2;
+    }
+    truth_kfs = kfs;
+    std::vector<BAPoint> pts, truth_pts;
+    std::vector<BAObservation> obs;
+    for (int i = 0; i < 200; ++i) {
+      BAPoint q;
+      q.p_w = Eigen::Vector3d(ux(rng), uy(rng), uz(rng));
+      for (int k = 0; k < 6; ++k) {
+        Eigen::Vector2d uv;
+        if (!cam->project(kfs[k].T_c_w * q.p_w, &uv)) continue;
+        obs.push_back({k, static_cast<int>(pts.size()), uv + 0.3 * Eigen::Vector2d(nd(rng), nd(rng)), 1.0});
+      }
+      pts.push_back(q);
+    }
+    truth_pts = pts;
+    // Perturb the free poses and all points.
+    for (int k = 2; k < 6; ++k)
+      kfs[k].T_c_w = makePose({0.5 * nd(rng), 0.5 * nd(rng), 0.5 * nd(rng)}, 0.03 * Eigen::Vector3d(nd(rng), nd(rng), nd(rng))) *
+                     kfs[k].T_c_w;
+    for (auto& q : pts) q.p_w += 0.05 * Eigen::Vector3d(nd(rng), nd(rng), nd(rng));
+    // A few gross outliers (handled by the Huber loss, flagged by chi2).
+    for (size_t j = 0; j < obs.size(); j += 50) obs[j].uv += Eigen::Vector2d(40, -30);
+    const double before = reprojectionRmse(*cam, kfs, pts, obs);
+    BAOptions opt;
+    opt.max_num_iterations = 50;
+    opt.max_solver_time_in_seconds = 5.0;
+    BASummary sum;
+    ASSERT_TRUE(bundleAdjust(*cam, &kfs, &pts, obs, opt, &sum));
+    // RMSE over the inlier observations
+    std::vector<BAObservation> clean;
+    int flagged_outliers = 0;
+    for (size_t j = 0; j < obs.size(); ++j) {
+      if (j % 50 == 0) {
+        flagged_outliers += sum.outlier[j];
+        continue;
+      }
+      clean.push_back(obs[j]);
+    }
+    const double after = reprojectionRmse(*cam, kfs, pts, clean);
+    EXPECT_GT(before, 5.0);
+    EXPECT_LT(after, 0.5) << cam->modelName();
+    EXPECT_GE(flagged_outliers, static_cast<int>(obs.size() / 50) - 1);
+    for (int k = 0; k < 2; ++k) {
+      EXPECT_LT((kfs[k].T_c_w.matrix() - truth_kfs[k].T_c_w.matrix()).norm(), 1e-12) << "fixed keyframe moved";
+    }
+    for (int k = 2; k < 6; ++k) {
+      EXPECT_LT(rotationErrorDeg(kfs[k].T_c_w.rotation(), truth_kfs[k].T_c_w.rotation()), 0.2);
+      EXPECT_LT((kfs[k].T_c_w.translation() - truth_kfs[k].T_c_w.translation()).norm(), 0.04) << cam->modelName();
+    }
+  }
+}

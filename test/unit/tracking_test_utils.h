@@ -1,0 +1,180 @@
+// Synthetic helpers shared by the tracking tests: tiny local camera models (pinhole without distortion and an
+// equidistant fisheye) and a synthetic feature renderer (random 3D points with random ORB-like descriptors).
+#pragma once
+
+#include <iraf_vo/camera/camera_model.h>
+#include <iraf_vo/features/feature_frame.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <random>
+#include <vector>
+
+namespace iraf_vo {
+namespace test {
+
+class TestPinhole : public CameraModel {
+ public:
+  TestPinhole(int w, int h, double f, double cx, double cy) : f_(f), cx_(cx), cy_(cy) {
+    width_ = w;
+    height_ = h;
+  }
+  std::string modelName() const override { return "pinhole-radtan"; }
+  bool project(const Eigen::Vector3d& p, Eigen::Vector2d* uv, Eigen::Matrix<double, 2, 3>* J) const override {
+    if (p.z() <= 1e-9) return false;
+    const double iz = 1.0 / p.z();
+    *uv = Eigen::Vector2d(f_ * p.x() * iz + cx_, f_ * p.y() * iz + cy_);
+    if (J) *J << f_ * iz, 0, -f_ * p.x() * iz * iz, 0, f_ * iz, -f_ * p.y() * iz * iz;
+    return true;
+  }
+  bool unproject(const Eigen::Vector2d& uv, Eigen::Vector3d* b) const override {
+    *b = Eigen::Vector3d((uv.x() - cx_) / f_, (uv.y() - cy_) / f_, 1.0).normalized();
+    return true;
+  }
+  std::vector<double> parameters() const override { return {f_, f_, cx_, cy_}; }
+  double focal() const override { return f_; }
+
+ private:
+  double f_, cx_, cy_;
+};
+
+/// Equidistant fisheye (Kannala-Brandt with k1..k4 = 0): r = f * theta. Jacobian by central differences.
+class TestFisheye : public CameraModel {
+ public:
+  TestFisheye(int w, int h, double f, double cx, double cy) : f_(f), cx_(cx), cy_(cy) {
+    width_ = w;
+    height_ = h;
+  }
+  std::string modelName() const override { return "kannala-brandt"; }
+  bool project(const Eigen::Vector3d& p, Eigen::Vector2d* uv, Eigen::Matrix<double, 2, 3>* J) const override {
+    if (!raw(p, uv)) return false;
+    if (J) {
+      for (int k = 0; k < 3; ++k) {
+        const double h = 1e-6 * std::max(1.0, p.norm());
+        Eigen::Vector3d a = p, b = p;
+        a(k) += h;
+        b(k) -= h;
+        Eigen::Vector2d ua, ub;
+        raw(a, &ua);
+        raw(b, &ub);
+        J->col(k) = (ua - ub) / (2 * h);
+      }
+    }
+    return true;
+  }
+  bool unproject(const Eigen::Vector2d& uv, Eigen::Vector3d* b) const override {
+    const double mx = (uv.x() - cx_) / f_, my = (uv.y() - cy_) / f_;
+    const double theta = std::sqrt(mx * mx + my * my);
+    if (theta < 1e-12) {
+      *b = Eigen::Vector3d(0, 0, 1);
+      return true;
+    }
+    const double s = std::sin(theta) / theta;
+    *b = Eigen::Vector3d(mx * s, my * s, std::cos(theta));
+    return true;
+  }
+  std::vector<double> parameters() const override { return {f_, f_, cx_, cy_, 0, 0, 0, 0}; }
+  double focal() const override { return f_; }
+
+ private:
+  bool raw(const Eigen::Vector3d& p, Eigen::Vector2d* uv) const {
+    const double r = std::sqrt(p.x() * p.x() + p.y() * p.y());
+    const double theta = std::atan2(r, p.z());
+    if (theta > 1.6) return false;
+    const double s = r > 1e-12 ? theta / r : 1.0 / std::max(p.z(), 1e-12);
+    *uv = Eigen::Vector2d(f_ * p.x() * s + cx_, f_ * p.y() * s + cy_);
+    return true;
+  }
+  double f_, cx_, cy_;
+};
+
+inline Eigen::Isometry3d makePose(const Eigen::Vector3d& rpy_deg, const Eigen::Vector3d& t) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  const double d = M_PI / 180.0;
+  T.linear() = (Eigen::AngleAxisd(rpy_deg.z() * d, Eigen::Vector3d::UnitZ()) *
+                Eigen::AngleAxisd(rpy_deg.y() * d, Eigen::Vector3d::UnitY()) *
+                Eigen::AngleAxisd(rpy_deg.x() * d, Eigen::Vector3d::UnitX()))
+                   .toRotationMatrix();
+  T.translation() = t;
+  return T;
+}
+
+inline double rotationErrorDeg(const Eigen::Matrix3d& A, const Eigen::Matrix3d& B) {
+  return Eigen::AngleAxisd(A.transpose() * B).angle() * 180.0 / M_PI;
+}
+
+/// A static world of textured points: every point has a random 32-byte descriptor; a frame sees the points that
+/// project into the image, with pixel noise and a few flipped descriptor bits. Keypoint octave from depth.
+struct SyntheticWorld {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<std::array<uint8_t, 32>> desc;
+  std::mt19937 rng{7};
+
+  void addBox(int n, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+    std::uniform_real_distribution<double> ux(lo.x(), hi.x()), uy(lo.y(), hi.y()), uz(lo.z(), hi.z());
+    std::uniform_int_distribution<int> ub(0, 255);
+    for (int i = 0; i < n; ++i) {
+      points.emplace_back(ux(rng), uy(rng), uz(rng));
+      std::array<uint8_t, 32> d;
+      for (auto& b : d) b = static_cast<uint8_t>(ub(rng));
+      desc.push_back(d);
+    }
+  }
+
+  FeatureFrame render(const CameraModel& cam, const Eigen::Isometry3d& T_w_c, double stamp, double noise_px = 0.5,
+                      int flip_bits = 4) {
+    FeatureFrame f;
+    f.stamp = stamp;
+    f.width = cam.width();
+    f.height = cam.height();
+    std::normal_distribution<double> nd(0.0, noise_px);
+    std::uniform_int_distribution<int> bit(0, 255);
+    const Eigen::Isometry3d T_c_w = T_w_c.inverse();
+    std::vector<int> vis;
+    for (size_t i = 0; i < points.size(); ++i) {
+      const Eigen::Vector3d pc = T_c_w * points[i];
+      if (pc.z() < 0.1) continue;
+      Eigen::Vector2d uv;
+      if (!cam.project(pc, &uv)) continue;
+      uv += Eigen::Vector2d(nd(rng), nd(rng));
+      if (uv.x() < 1 || uv.y() < 1 || uv.x() > cam.width() - 2 || uv.y() > cam.height() - 2) continue;
+      cv::KeyPoint kp(static_cast<float>(uv.x()), static_cast<float>(uv.y()), 31.f);
+      kp.octave = 0;
+      kp.angle = -1.f;
+      kp.response = 1.f;
+      f.keypoints.push_back(kp);
+      vis.push_back(static_cast<int>(i));
+    }
+    f.descriptors.create(static_cast<int>(vis.size()), 32, CV_8U);
+    for (size_t k = 0; k < vis.size(); ++k) {
+      auto d = desc[vis[k]];
+      for (int b = 0; b < flip_bits; ++b) {
+        const int x = bit(rng);
+        d[x / 8] ^= static_cast<uint8_t>(1u << (x % 8));
+      }
+      std::memcpy(f.descriptors.ptr<uint8_t>(static_cast<int>(k)), d.data(), 32);
+    }
+    f.stability.assign(vis.size(), 1.f);
+    return f;
+  }
+};
+
+/// Sim(3) ATE RMSE of estimated vs true positions (Eigen::umeyama with scaling).
+inline double ateRmse(const std::vector<Eigen::Vector3d>& est, const std::vector<Eigen::Vector3d>& gt) {
+  const int n = static_cast<int>(est.size());
+  if (n < 3) return 1e9;
+  Eigen::Matrix3Xd A(3, n), B(3, n);
+  for (int i = 0; i < n; ++i) {
+    A.col(i) = est[i];
+    B.col(i) = gt[i];
+  }
+  const Eigen::Matrix4d S = Eigen::umeyama(A, B, true);
+  double s = 0;
+  for (int i = 0; i < n; ++i) s += ((S * A.col(i).homogeneous()).head<3>() - B.col(i)).squaredNorm();
+  return std::sqrt(s / n);
+}
+
+}  // namespace test
+}  // namespace iraf_vo
