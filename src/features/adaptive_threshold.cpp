@@ -68,39 +68,36 @@ double meanGradientMagnitude(const cv::Mat& gray) {
 }
 
 int otsuThreshold(const Histogram256& h) {
-  // mu_T = sum_i i P(i); N = number of pixels; lo / hi = first / last non-empty bin
-  double n = 0.0, sum_t = 0.0;
-  int lo = -1, hi = -1;
+  // N = number of pixels, S = sum of intensities (mu_T = S / N); lo / hi = first / last non-empty bin.
+  // Branch-free sums: cells have ~1000 pixels spread over unpredictable bins.
+  int64_t n = 0, sum_t = 0;
   for (int i = 0; i < 256; ++i) {
-    if (h[i] == 0) continue;
-    if (lo < 0) lo = i;
-    hi = i;
     n += h[i];
-    sum_t += static_cast<double>(i) * h[i];
+    sum_t += static_cast<int64_t>(i) * h[i];
   }
-  if (lo < 0) return 0;
+  if (n == 0) return 0;
+  int lo = 0, hi = 255;
+  while (h[lo] == 0) ++lo;
+  while (h[hi] == 0) --hi;
   if (lo == hi) return lo;  // single-valued: no split exists
   // eq. (16) with P_t = w0 / N and mu_t = s0 / N (w0 = pixels <= t, s0 = their intensity sum):
-  //   sigma_c^2(t) = (mu_T P_t - mu_t)^2 / (P_t (1 - P_t)) = (sum_t w0 - N s0)^2 / (N^2 w0 (N - w0)).
-  // N^2 is constant, so argmax compares num2 / den with num2 = (sum_t w0 - N s0)^2, den = w0 (N - w0)
+  //   sigma_c^2(t) = (mu_T P_t - mu_t)^2 / (P_t (1 - P_t)) = (S w0 - N s0)^2 / (N^2 w0 (N - w0)).
+  // N^2 is constant, so argmax compares num2 / den with num2 = (S w0 - N s0)^2, den = w0 (N - w0)
   // by cross-multiplication (no division). Bins outside [lo, hi] leave one class empty and are skipped.
-  double w0 = 0.0, s0 = 0.0, best_num2 = -1.0, best_den = 1.0;
+  int64_t w0 = 0, s0 = 0;
+  double best_num2 = -1.0, best_den = 1.0;
   int t_o = lo, t_last = lo;
   for (int t = lo; t < hi; ++t) {
-    if (h[t] == 0) {  // sigma_c^2(t) = sigma_c^2(t - 1): only a flat maximum can grow
-      if (t_last == t - 1) t_last = t;
-      continue;
-    }
     w0 += h[t];
-    s0 += static_cast<double>(t) * h[t];
-    const double num = sum_t * w0 - n * s0;
-    const double num2 = num * num, den = w0 * (n - w0);
+    s0 += static_cast<int64_t>(t) * h[t];
+    const double num = static_cast<double>(sum_t * w0 - n * s0);
+    const double num2 = num * num, den = static_cast<double>(w0 * (n - w0));
     const double lhs = num2 * best_den, rhs = best_num2 * den;
     if (lhs > rhs * (1.0 + 1e-12)) {  // eq. (17): t_o = argmax_t sigma_c^2(t)
       best_num2 = num2;
       best_den = den;
       t_o = t_last = t;
-    } else if (lhs >= rhs * (1.0 - 1e-12) && t_last == t - 1) {
+    } else if (t_last == t - 1 && lhs >= rhs * (1.0 - 1e-12)) {
       t_last = t;  // flat maximum (empty bins between the classes): take its middle
     }
   }
