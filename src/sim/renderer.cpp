@@ -33,8 +33,9 @@ Renderer::Renderer(CameraModelPtr camera, std::shared_ptr<const Scene> scene, co
   if (w_ < 2 || h_ < 2) throw std::invalid_argument("Renderer: camera resolution must be at least 2x2");
   ss_ = params.supersample;
   const size_t n = static_cast<size_t>(w_) * h_ * ss_ * ss_;
-  bx_.assign(n, 0.f), by_.assign(n, 0.f), bz_.assign(n, 1.f), valid_.assign(n, 0);
-  footprint_.assign(static_cast<size_t>(w_) * h_, 0.f);
+  // + kTile padding: the span renderer reads whole 16-pixel spans past the last pixel.
+  bx_.assign(n + kTile, 0.f), by_.assign(n + kTile, 0.f), bz_.assign(n + kTile, 1.f), valid_.assign(n + kTile, 0);
+  footprint_.assign(static_cast<size_t>(w_) * h_ + kTile, 0.f);
   size_t k = 0;
   for (int r = 0; r < h_; ++r)
     for (int c = 0; c < w_; ++c)
@@ -127,6 +128,12 @@ void Renderer::renderTileRows(const Eigen::Isometry3d& T_W_C, int tr0, int tr1, 
         if (std::acos(cosb) <= tile_half_angle_[tile] + std::asin(radius[b] / dist[b])) cand[nc++] = static_cast<int>(b);
       }
       const int r_end = std::min(h_, (ty + 1) * kTile), c_end = std::min(w_, (tx + 1) * kTile);
+      if (nsub == 1 && params_.span_renderer) {
+        for (int r = ty * kTile; r < r_end; ++r)
+          renderSpan(R, o, r, tx * kTile, c_end - tx * kTile, cand.data(), nc, radiance->ptr<float>(r),
+                     depth ? depth->ptr<float>(r) : nullptr);
+        continue;
+      }
       for (int r = ty * kTile; r < r_end; ++r) {
         float* out = radiance->ptr<float>(r);
         float* dep = depth ? depth->ptr<float>(r) : nullptr;
@@ -156,6 +163,120 @@ void Renderer::renderTileRows(const Eigen::Isometry3d& T_W_C, int tr0, int tr1, 
         }
       }
     }
+  }
+}
+
+namespace {
+/// 1/sqrt(x) for x > 0: bit-trick estimate + 3 Newton steps (relative error ~1e-7). Pure arithmetic, so
+/// the span loops vectorize without -fno-math-errno.
+inline float rsqrt(float x) {
+  uint32_t i = __builtin_bit_cast(uint32_t, x);
+  i = 0x5f375a86u - (i >> 1);
+  float y = __builtin_bit_cast(float, i);
+  const float hx = 0.5f * x;
+  y = y * (1.5f - hx * y * y);
+  y = y * (1.5f - hx * y * y);
+  y = y * (1.5f - hx * y * y);
+  return y;
+}
+}  // namespace
+
+void Renderer::renderSpan(const Eigen::Matrix3f& R, const Eigen::Vector3f& o, int r, int c0, int n, const int* cand,
+                          int nc, float* out, float* dep) const {
+  // Same computation as Scene::castRay + Scene::shade, written as branch-free loops over up to kTile
+  // pixels in structure-of-arrays form so that the compiler vectorizes everything but the texture reads.
+  constexpr int N = kTile;
+  alignas(64) float dx[N], dy[N], dz[N], ix[N], iy[N], iz[N], t[N], u[N], v[N], shade[N], fp[N], bz[N];
+  alignas(64) int axis[N], surf[N];
+  const Scene& scene = *scene_;
+  const Eigen::Vector3f lo = scene.roomLo(), hi = scene.roomHi(), ext = hi - lo;
+  const float ox = o.x(), oy = o.y(), oz = o.z();
+  const float lox = lo.x(), loy = lo.y(), loz = lo.z(), hix = hi.x(), hiy = hi.y(), hiz = hi.z();
+  const size_t p0 = static_cast<size_t>(r) * w_ + c0;
+  const float* __restrict bxp = bx_.data() + p0;
+  const float* __restrict byp = by_.data() + p0;
+  const float* __restrict bzp = bz_.data() + p0;
+  const float r00 = R(0, 0), r01 = R(0, 1), r02 = R(0, 2), r10 = R(1, 0), r11 = R(1, 1), r12 = R(1, 2), r20 = R(2, 0),
+              r21 = R(2, 1), r22 = R(2, 2);
+  // Pass 1: world directions, room exit (nearest of the three faces the ray points to).
+  for (int i = 0; i < N; ++i) {
+    const float b0 = bxp[i], b1 = byp[i], b2 = bzp[i];  // arrays padded by kTile: no bounds branch
+    const float x = r00 * b0 + r01 * b1 + r02 * b2, y = r10 * b0 + r11 * b1 + r12 * b2, z = r20 * b0 + r21 * b1 + r22 * b2;
+    dx[i] = x, dy[i] = y, dz[i] = z, bz[i] = b2;
+    ix[i] = 1.f / x, iy[i] = 1.f / y, iz[i] = 1.f / z;
+    const float tx = ((x > 0 ? hix : lox) - ox) * ix[i];
+    const float tyy = ((y > 0 ? hiy : loy) - oy) * iy[i];
+    const float tz = ((z > 0 ? hiz : loz) - oz) * iz[i];
+    const bool ay = tyy < tx;
+    float best = ay ? tyy : tx;
+    int a = ay ? 1 : 0;
+    const bool az = tz < best;
+    best = az ? tz : best;
+    a = az ? 2 : a;
+    const float da = a == 0 ? x : (a == 1 ? y : z);
+    t[i] = best, axis[i] = a, surf[i] = a * 2 + (da > 0 ? 1 : 0);
+  }
+  // Pass 2: candidate boxes (slab test; entry face = axis of the largest near-slab distance).
+  const std::vector<SceneBox>& boxes = scene.boxes();
+  for (int j = 0; j < nc; ++j) {
+    const SceneBox& b = boxes[cand[j]];
+    const float lx = b.lo.x() - ox, ly = b.lo.y() - oy, lz = b.lo.z() - oz;
+    const float hx = b.hi.x() - ox, hy = b.hi.y() - oy, hz = b.hi.z() - oz;
+    const int sid = 6 + cand[j];
+    for (int i = 0; i < N; ++i) {
+      const float ax = lx * ix[i], bx = hx * ix[i], ay = ly * iy[i], by = hy * iy[i], az = lz * iz[i], bzz = hz * iz[i];
+      const float nx = std::min(ax, bx), ny = std::min(ay, by), nz = std::min(az, bzz);
+      const float fx = std::max(ax, bx), fy = std::max(ay, by), fz = std::max(az, bzz);
+      const float tn = std::max(nx, std::max(ny, nz));
+      const float tf = std::min(fx, std::min(fy, fz));
+      const bool hit = (tn <= tf) & (tn > 1e-4f) & (tn < t[i]);
+      const int a = ((nx >= ny) & (nx >= nz)) ? 0 : (ny >= nz ? 1 : 2);
+      t[i] = hit ? tn : t[i];
+      axis[i] = hit ? a : axis[i];
+      surf[i] = hit ? sid : surf[i];
+    }
+  }
+  // Pass 3: hit point, surface coordinates, Lambertian shading, footprint in texels.
+  const SceneParams& sp = scene.params();
+  const float lx = sp.light_x, ly = sp.light_y, lz = sp.light_z, amb = sp.ambient;
+  const float tpm = sp.texels_per_m;
+  const float* __restrict fpp = footprint_.data() + p0;
+  const float uo_x = 0.5f * ext.y(), uo_y = 0.5f * ext.x(), vo_wall = ext.z(), vo_floor = 0.5f * ext.y();
+  for (int i = 0; i < N; ++i) {
+    // Face selection by 0/1 weights (arithmetic instead of branches: vectorizes).
+    const int a = axis[i];
+    const float e0 = static_cast<float>(a == 0), e1 = static_cast<float>(a == 1), e2 = 1.f - e0 - e1;
+    const float tt = t[i];
+    const float px = ox + tt * dx[i], py = oy + tt * dy[i], pz = oz + tt * dz[i];
+    const float da = e0 * dx[i] + e1 * dy[i] + e2 * dz[i];
+    const float nsgn = static_cast<float>(da <= 0) * 2.f - 1.f;  // normal faces the ray origin
+    // u = p . (up x n) on walls, x on floor/ceiling; v = -z on walls, n * y on floor/ceiling.
+    float uu = e0 * nsgn * py - e1 * nsgn * px + e2 * px;
+    float vv = e2 * nsgn * py - (1.f - e2) * pz;
+    const float room = static_cast<float>(surf[i] < 6);
+    const float sf = static_cast<float>(surf[i]), af = static_cast<float>(a);
+    uu += room * (e0 * uo_x + (1.f - e0) * uo_y) + (1.f - room) * 0.37f * (sf + af);
+    vv += room * (e2 * vo_floor + (1.f - e2) * vo_wall) + (1.f - room) * 0.23f * (sf + 2.f * af);
+    u[i] = uu, v[i] = vv;
+    const float Lx = lx - px, Ly = ly - py, Lz = lz - pz;
+    const float d2 = Lx * Lx + Ly * Ly + Lz * Lz;
+    const float ndotl = nsgn * (e0 * Lx + e1 * Ly + e2 * Lz);
+    const float cosang = std::max(0.f, ndotl) * rsqrt(d2 + 1e-12f);
+    const float direct = std::min(1.f, cosang * 1.6f / (1.f + d2 * (1.f / 9.f)));
+    shade[i] = amb + (1.f - amb) * direct;
+    const float cosi = std::max(0.05f, std::abs(da));
+    fp[i] = tt * fpp[i] * tpm * rsqrt(cosi);
+  }
+  // Pass 4: texture reads (gathers), output.
+  const float scale = static_cast<float>(255.0 * params_.brightness);
+  const std::vector<SceneTexture>& tex = scene.textures();
+  const uint8_t* valid = valid_.data() + p0;
+  for (int i = 0; i < n; ++i) {
+    const bool ok = valid[i] && t[i] > 0.f && std::isfinite(t[i]);
+    const int s = surf[i];
+    const int ti = s < 6 ? s : boxes[s - 6].texture;
+    out[c0 + i] = ok ? tex[ti].sample(u[i], v[i], fp[i]) * shade[i] * scale : 0.f;
+    if (dep) dep[c0 + i] = ok ? t[i] * bz[i] : 0.f;
   }
 }
 

@@ -81,6 +81,24 @@ TEST(SimRender, DeterministicForASeed) {
   EXPECT_EQ(cv::norm(o1, o2, cv::NORM_INF), 0.0);
 }
 
+TEST(SimRender, SpanRendererMatchesReferencePath) {
+  // The vectorized 16-pixel span renderer and the per-ray reference (Scene::castRay + Scene::shade)
+  // compute the same image and depth.
+  for (const char* name : {"pinhole", "fisheye"}) {
+    auto cam = camera(name, 200, 150);
+    SimParams a, b;
+    b.span_renderer = false;
+    cv::Mat ia, ib, da, db;
+    const Eigen::Isometry3d T = iraf_vo::trajectoryPose(TrajectoryParams(), 2.3);
+    Renderer(cam, defaultRoom(), a).render(T, &ia, &da);
+    Renderer(cam, defaultRoom(), b).render(T, &ib, &db);
+    cv::Mat diff = cv::abs(ia - ib);
+    EXPECT_LT(cv::countNonZero(diff > 1.0), 0.002 * ia.total()) << name;  // rounding at face borders only
+    EXPECT_LT(cv::mean(diff)[0], 0.05) << name;
+    EXPECT_LT(cv::countNonZero(cv::abs(da - db) > 1e-3f), 0.002 * da.total()) << name;
+  }
+}
+
 TEST(SimRender, ImageHasTextureAndReasonableBrightness) {
   auto cam = camera("pinhole");
   Renderer r(cam, defaultRoom(), SimParams());

@@ -155,9 +155,9 @@ inline float SceneTexture::sample(float u_m, float v_m, float footprint_texels) 
   if (!(footprint_texels > 1.f)) return sampleLevel(u_m, v_m, 0);
   const float lod = std::min(detail::fastLog2(footprint_texels), max_lod_);
   const int l0 = static_cast<int>(lod);
-  // "Brilinear": blend two levels only for a fractional LOD in [0.25, 0.75] (remapped to [0, 1]),
+  // "Brilinear": blend two levels only for a fractional LOD in [0.3, 0.7] (remapped to [0, 1]),
   // nearest level elsewhere; continuous in the LOD, half the texture reads of trilinear.
-  const float f = std::min(1.f, std::max(0.f, 2.f * (lod - static_cast<float>(l0)) - 0.5f));
+  const float f = std::min(1.f, std::max(0.f, 2.5f * (lod - static_cast<float>(l0)) - 0.75f));
   if (f <= 0.f) return sampleLevel(u_m, v_m, l0);
   if (f >= 1.f) return sampleLevel(u_m, v_m, l0 + 1);
   const float a = sampleLevel(u_m, v_m, l0);
