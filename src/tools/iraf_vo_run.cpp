@@ -4,6 +4,7 @@
 // Offline monocular VO (no roscore): front-end (enhance + features) and back-end (tracking; BA on its own thread)
 // run on separate threads connected by a bounded queue. Writes the TUM trajectory of every tracked frame and a
 // summary (frames, tracked %, lost events, map points, per-stage median / 95 % ms, ATE when --gt).
+#include <atomic>
 #include <iraf_vo/camera/camera_loader.h>
 #include <iraf_vo/enhance/enhance_params_io.h>
 #include <iraf_vo/enhance/enhancer.h>
@@ -82,6 +83,7 @@ struct FrontItem {
   double ms_read = 0, ms_enhance = 0, ms_features = 0;
   bool end = false;
   bool error = false;
+  bool fatal = false;  // stops the run with a non-zero exit (e.g. image size != camera size)
   std::string message;
 };
 
@@ -308,11 +310,13 @@ int main(int argc, char** argv) {
 
   // ---- front-end thread: read -> enhance -> features ----
   BoundedQueue queue(4);
+  std::atomic<bool> stop_front{false};
   std::thread front([&] {
     iraf_vo::Enhancer enhancer;
     iraf_vo::FeatureExtractor extractor;
     long idx = 0;
     for (;;) {
+      if (stop_front) return;
       FrontItem it;
       auto t0 = Clock::now();
       cv::Mat gray;
@@ -344,6 +348,13 @@ int main(int argc, char** argv) {
         queue.push(std::move(it));
         return;
       }
+      if (!it.error && (gray.cols != cam->width() || gray.rows != cam->height())) {
+        // Tracking with the wrong intrinsics would give silent garbage: stop with an error naming both files.
+        it.error = it.fatal = true;
+        it.message = (is_bag ? dataset + " (topic " + topic + ")" : asl.entries()[idx].path) + ": image " +
+                     std::to_string(gray.cols) + "x" + std::to_string(gray.rows) + " does not match the camera " +
+                     camera_path + " (" + std::to_string(cam->width()) + "x" + std::to_string(cam->height()) + ")";
+      }
       it.index = idx++;
       it.ms_read = msSince(t0);
       if (!it.error) {
@@ -371,12 +382,18 @@ int main(int argc, char** argv) {
   const bool tty = isatty(fileno(stderr)) && !quiet;
   const auto t_start = Clock::now();
   long processed = 0, errors = 0;
+  bool fatal = false;
   iraf_vo::TrackingState last_state = iraf_vo::TrackingState::kNotInitialized;
   for (;;) {
     FrontItem it;
     queue.pop(&it);
     if (it.end) break;
     ++processed;
+    if (it.fatal) {
+      std::fprintf(stderr, "\niraf_vo_run: %s\n", it.message.c_str());
+      fatal = true;
+      break;
+    }
     if (it.error) {
       ++errors;
       std::fprintf(stderr, "\niraf_vo_run: frame %ld skipped: %s\n", it.index, it.message.c_str());
@@ -406,9 +423,15 @@ int main(int argc, char** argv) {
                    processed / std::max(el, 1e-9), iraf_vo::toString(r.state));
     }
   }
+  stop_front = true;
   queue.close();
   front.join();
   tracker.waitForMapping();
+  if (fatal) return 1;
+  if (processed > 0 && errors == processed) {
+    std::fprintf(stderr, "iraf_vo_run: --dataset %s: none of the %ld frames could be read\n", dataset.c_str(), processed);
+    return 1;
+  }
   const double wall = std::chrono::duration<double>(Clock::now() - t_start).count();
   if (tty) std::fprintf(stderr, "\n");
   (void)last_state;
