@@ -73,8 +73,10 @@ for t in "${TARGETS[@]}"; do
   mkdir -p "$work"
   log="$BUILD_DIR/logs/$t.log"
   echo "fuzz.sh: $t for ${SECONDS_PER_TARGET}s (log: $log)"
+  bin="$(find "$BUILD_DIR" -maxdepth 4 -type f -name "$t" -perm -u+x | head -1)"
+  [ -n "$bin" ] || { echo "fuzz.sh: $t not built" >&2; exit 1; }
   rc=0
-  (cd "$BUILD_DIR" && "./$t" -max_total_time="$SECONDS_PER_TARGET" -timeout=20 -rss_limit_mb=2560 -max_len=4096 \
+  (cd "$BUILD_DIR" && "$bin" -max_total_time="$SECONDS_PER_TARGET" -timeout=20 -rss_limit_mb=2560 -max_len=4096 \
      -print_final_stats=1 -artifact_prefix="$BUILD_DIR/artifacts/$t-" "$work" $( [ -d "$seeds" ] && echo "$seeds" )) \
      >"$log" 2>&1 || rc=$?
   runs=$(grep -o 'Done [0-9]* runs in [0-9]* second' "$log" | tail -1 || true)

@@ -24,7 +24,8 @@ namespace {
     }                                                                        \
   } while (0)
 
-// Mostly plausible values, sometimes anything (NaN, inf, negative, huge).
+// Mostly plausible values, sometimes anything (NaN, inf, negative, huge). Each field keeps its default with
+// probability 2/3, so valid parameter sets (which reach the deep code) stay frequent.
 double pickDouble(FuzzedDataProvider& in, double lo, double hi) {
   switch (in.ConsumeIntegralInRange<int>(0, 7)) {
     case 0: return in.ConsumeFloatingPoint<double>();
@@ -47,45 +48,45 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
 
   iraf_vo::EnhanceParams ep;
   ep.method = static_cast<iraf_vo::EnhanceMethod>(in.ConsumeIntegralInRange<int>(0, 3));
-  ep.gaussian_kernel_size = pickInt(in, -1, 15);
-  ep.gaussian_sigma = pickDouble(in, -1.0, 10.0);
-  ep.mu_expected = pickDouble(in, -10.0, 300.0);
-  ep.brightness_threshold = pickDouble(in, -1.0, 2.0);
-  ep.dim_lambda = pickDouble(in, -1.0, 3.0);
-  ep.dim_tau = pickDouble(in, -0.5, 1.5);
-  ep.bright_lambda = pickDouble(in, -1.0, 3.0);
-  ep.bright_tau = pickDouble(in, -0.5, 1.5);
-  ep.epsilon = pickDouble(in, -5.0, 5.0);
-  ep.eta = pickDouble(in, -5.0, 5.0);
-  ep.clahe_clip_limit = pickDouble(in, -1.0, 50.0);
-  ep.clahe_tiles = pickInt(in, -1, 32);
+  if (in.ConsumeIntegralInRange<int>(0, 2) == 0) ep.gaussian_kernel_size = pickInt(in, -1, 15);
+  if (in.ConsumeIntegralInRange<int>(0, 2) == 0) ep.gaussian_sigma = pickDouble(in, -1.0, 10.0);
+  if (in.ConsumeIntegralInRange<int>(0, 2) == 0) ep.mu_expected = pickDouble(in, -10.0, 300.0);
+  if (in.ConsumeIntegralInRange<int>(0, 2) == 0) ep.brightness_threshold = pickDouble(in, -1.0, 2.0);
+  if (in.ConsumeIntegralInRange<int>(0, 2) == 0) ep.dim_lambda = pickDouble(in, -1.0, 3.0);
+  if (in.ConsumeIntegralInRange<int>(0, 2) == 0) ep.dim_tau = pickDouble(in, -0.5, 1.5);
+  if (in.ConsumeIntegralInRange<int>(0, 2) == 0) ep.bright_lambda = pickDouble(in, -1.0, 3.0);
+  if (in.ConsumeIntegralInRange<int>(0, 2) == 0) ep.bright_tau = pickDouble(in, -0.5, 1.5);
+  if (in.ConsumeIntegralInRange<int>(0, 2) == 0) ep.epsilon = pickDouble(in, -5.0, 5.0);
+  if (in.ConsumeIntegralInRange<int>(0, 2) == 0) ep.eta = pickDouble(in, -5.0, 5.0);
+  if (in.ConsumeIntegralInRange<int>(0, 2) == 0) ep.clahe_clip_limit = pickDouble(in, -1.0, 50.0);
+  if (in.ConsumeIntegralInRange<int>(0, 2) == 0) ep.clahe_tiles = pickInt(in, -1, 32);
 
   iraf_vo::FeatureParams fp;
   const bool run_features = in.ConsumeBool();
   if (run_features) {
-    fp.n_features = pickInt(in, -1, 2000);
-    fp.scale_factor = pickDouble(in, 0.5, 5.0);
-    fp.n_levels = pickInt(in, 0, 12);
-    fp.cell_size = pickInt(in, 0, 100);
+    if (in.ConsumeIntegralInRange<int>(0, 2) == 0) fp.n_features = pickInt(in, -1, 2000);
+    if (in.ConsumeIntegralInRange<int>(0, 2) == 0) fp.scale_factor = pickDouble(in, 0.5, 5.0);
+    if (in.ConsumeIntegralInRange<int>(0, 2) == 0) fp.n_levels = pickInt(in, 0, 12);
+    if (in.ConsumeIntegralInRange<int>(0, 2) == 0) fp.cell_size = pickInt(in, 0, 100);
     fp.adaptive_threshold = in.ConsumeBool();
-    fp.ini_th_fast = pickInt(in, 0, 260);
-    fp.min_th_fast = pickInt(in, 0, 260);
-    fp.alpha = pickDouble(in, -1.0, 5.0);
-    fp.beta = pickDouble(in, -1.0, 2.0);
-    fp.delta = pickDouble(in, -1.0, 5.0);
-    fp.ft_min = pickDouble(in, 0.0, 260.0);
-    fp.center_window = pickInt(in, 0, 40);
+    if (in.ConsumeIntegralInRange<int>(0, 2) == 0) fp.ini_th_fast = pickInt(in, 0, 260);
+    if (in.ConsumeIntegralInRange<int>(0, 2) == 0) fp.min_th_fast = pickInt(in, 0, 260);
+    if (in.ConsumeIntegralInRange<int>(0, 2) == 0) fp.alpha = pickDouble(in, -1.0, 5.0);
+    if (in.ConsumeIntegralInRange<int>(0, 2) == 0) fp.beta = pickDouble(in, -1.0, 2.0);
+    if (in.ConsumeIntegralInRange<int>(0, 2) == 0) fp.delta = pickDouble(in, -1.0, 5.0);
+    if (in.ConsumeIntegralInRange<int>(0, 2) == 0) fp.ft_min = pickDouble(in, 0.0, 260.0);
+    if (in.ConsumeIntegralInRange<int>(0, 2) == 0) fp.center_window = pickInt(in, 0, 40);
     fp.culling = in.ConsumeBool();
-    fp.min_node_size = pickInt(in, 0, 100);
-    fp.contrast_patch_size = pickInt(in, 0, 60);
-    fp.rho = pickDouble(in, -2.0, 5.0);
-    fp.h_th = pickDouble(in, -10.0, 50.0);
-    fp.k = pickDouble(in, -5.0, 20.0);
-    fp.d_opt = pickDouble(in, -1.0, 5.0);
-    fp.w1 = pickDouble(in, -1.0, 2.0);
-    fp.w2 = pickDouble(in, -1.0, 2.0);
-    fp.s_min = pickDouble(in, -1.0, 2.0);
-    fp.min_features = pickInt(in, -1, 3000);
+    if (in.ConsumeIntegralInRange<int>(0, 2) == 0) fp.min_node_size = pickInt(in, 0, 100);
+    if (in.ConsumeIntegralInRange<int>(0, 2) == 0) fp.contrast_patch_size = pickInt(in, 0, 60);
+    if (in.ConsumeIntegralInRange<int>(0, 2) == 0) fp.rho = pickDouble(in, -2.0, 5.0);
+    if (in.ConsumeIntegralInRange<int>(0, 2) == 0) fp.h_th = pickDouble(in, -10.0, 50.0);
+    if (in.ConsumeIntegralInRange<int>(0, 2) == 0) fp.k = pickDouble(in, -5.0, 20.0);
+    if (in.ConsumeIntegralInRange<int>(0, 2) == 0) fp.d_opt = pickDouble(in, -1.0, 5.0);
+    if (in.ConsumeIntegralInRange<int>(0, 2) == 0) fp.w1 = pickDouble(in, -1.0, 2.0);
+    if (in.ConsumeIntegralInRange<int>(0, 2) == 0) fp.w2 = pickDouble(in, -1.0, 2.0);
+    if (in.ConsumeIntegralInRange<int>(0, 2) == 0) fp.s_min = pickDouble(in, -1.0, 2.0);
+    if (in.ConsumeIntegralInRange<int>(0, 2) == 0) fp.min_features = pickInt(in, -1, 3000);
     fp.eq23_literal = in.ConsumeBool();
   }
 

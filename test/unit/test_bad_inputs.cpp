@@ -303,3 +303,52 @@ TEST(BadStageInput, FeatureExtractorRejectsEmptyWrongTypeAndInvalidParams) {
     EXPECT_EQ(f.descriptors.rows, static_cast<int>(f.keypoints.size()));
   }
 }
+
+// Found by fuzz_frontend: clahe_tiles = 2^30 passed validate() and made cv::createCLAHE allocate ~16 PB
+// (ASan allocation-size-too-big; a std::bad_alloc / OOM kill in a plain build). validate() now bounds every
+// field that sizes an allocation or is converted to float.
+TEST(BadStageInput, EnhanceParamsOutOfRangeAreRejectedByValidate) {
+  Enhancer e;
+  const cv::Mat img(20, 30, CV_8UC1, cv::Scalar(40));
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<std::pair<std::string, EnhanceParams>> bad;
+  EnhanceParams p;
+  p.method = EnhanceMethod::kClahe;
+  p.clahe_tiles = 1 << 30;
+  bad.emplace_back("clahe_tiles", p);
+  p = EnhanceParams();
+  p.gaussian_kernel_size = 2147483647;
+  bad.emplace_back("gaussian_kernel_size", p);
+  p = EnhanceParams();
+  p.gaussian_sigma = inf;
+  bad.emplace_back("gaussian_sigma", p);
+  p = EnhanceParams();
+  p.eta = 1e300;  // float(1e300) is undefined behaviour in the eq. (12) weights
+  bad.emplace_back("eta", p);
+  p = EnhanceParams();
+  p.clahe_clip_limit = inf;
+  bad.emplace_back("clahe_clip_limit", p);
+  p = EnhanceParams();
+  p.dim_lambda = inf;
+  bad.emplace_back("lambda", p);
+  p = EnhanceParams();
+  p.mu_expected = inf;
+  bad.emplace_back("mu_expected", p);
+  for (const auto& [field, q] : bad) {
+    EXPECT_NE(validate(q).find(field), std::string::npos) << field << ": '" << validate(q) << "'";
+    EXPECT_THROW(e.enhance(img, q), std::invalid_argument) << field;
+  }
+  // The largest values in cfg/Enhance.cfg's ranges stay valid and run.
+  p = EnhanceParams();
+  p.gaussian_kernel_size = 15;
+  p.gaussian_sigma = 5.0;
+  p.clahe_tiles = 32;
+  p.clahe_clip_limit = 40.0;
+  p.eta = 5.0;
+  p.epsilon = 3.0;
+  EXPECT_EQ(validate(p), "");
+  for (EnhanceMethod m : {EnhanceMethod::kIraf, EnhanceMethod::kClahe}) {
+    p.method = m;
+    EXPECT_NO_THROW(e.enhance(img, p));
+  }
+}
