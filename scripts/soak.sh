@@ -48,7 +48,7 @@ n=${#names[@]}
 [ "$n" -ge 2 ] || { echo "soak.sh: the simulator wrote $n frames" >&2; exit 1; }
 awk -v N="$FRAMES" -v n="$n" -v list="${names[*]}" 'BEGIN {
   split(list, f, " "); print "#timestamp [ns],filename"; period = 2 * (n - 1);
-  for (i = 0; i < N; ++i) { k = i % period; if (k >= n) k = period - k; printf "%d,%s\n", 1000000000000000000 + i * 50000000, f[k + 1] }
+  for (i = 0; i < N; ++i) { k = i % period; if (k >= n) k = period - k; printf "%.0f,%s\n", 1000000000000000000 + i * 50000000, f[k + 1] }
 }' >"$LOOP/data.csv"
 
 echo "soak.sh: iraf_vo_run over $FRAMES frames (mode $MODE), RSS samples in $WORK/rss.csv"
