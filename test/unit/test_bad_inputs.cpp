@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "common/test_data.h"
 #include "iraf_vo/camera/camera_loader.h"
 #include "iraf_vo/enhance/enhancer.h"
 #include "iraf_vo/features/feature_extractor.h"
@@ -350,5 +351,56 @@ TEST(BadStageInput, EnhanceParamsOutOfRangeAreRejectedByValidate) {
   for (EnhanceMethod m : {EnhanceMethod::kIraf, EnhanceMethod::kClahe}) {
     p.method = m;
     EXPECT_NO_THROW(e.enhance(img, p));
+  }
+}
+
+// Extreme but valid() feature params (each field at the largest value validate() accepts) on a textured image:
+// no crash, no throw, no sanitizer report (run under ASan + UBSan by scripts/test.sh in CI).
+TEST(BadStageInput, FeatureExtractorExtremeValidParams) {
+  const cv::Mat img = iraf_vo_test::texturedImage(160, 120);
+  FeatureExtractor fx;
+  const int big = std::numeric_limits<int>::max();  // odd
+  std::vector<std::pair<std::string, FeatureParams>> cases;
+  FeatureParams p;
+  p.n_features = big;
+  cases.emplace_back("n_features", p);
+  p = FeatureParams();
+  p.cell_size = big;
+  cases.emplace_back("cell_size", p);
+  p = FeatureParams();
+  p.center_window = big;
+  cases.emplace_back("center_window", p);
+  p = FeatureParams();
+  p.min_node_size = big;
+  cases.emplace_back("min_node_size", p);
+  p = FeatureParams();
+  p.contrast_patch_size = big;
+  cases.emplace_back("contrast_patch_size", p);
+  p = FeatureParams();
+  p.min_features = big;
+  cases.emplace_back("min_features", p);
+  p = FeatureParams();
+  p.n_levels = 32;
+  p.scale_factor = 4.0;
+  cases.emplace_back("n_levels/scale_factor", p);
+  p = FeatureParams();
+  p.alpha = p.beta = p.delta = 1e300;
+  cases.emplace_back("alpha/beta/delta", p);
+  p = FeatureParams();
+  p.rho = p.h_th = p.k = p.d_opt = 1e300;
+  p.w1 = -1e300;
+  cases.emplace_back("culling weights", p);
+  // n_features = INT_MAX used to pass validate() and throw std::length_error from vector::reserve(4 * n)
+  // (signed overflow first): now rejected by validate().
+  EXPECT_NE(validate(cases[0].second).find("n_features"), std::string::npos);
+  for (const auto& [name, q] : cases) {
+    SCOPED_TRACE(name);
+    if (!validate(q).empty()) continue;  // rejected up front: also fine
+    FeatureFrame f;
+    EXPECT_NO_THROW(f = fx.extract(img, 0.0, q));
+    EXPECT_EQ(f.descriptors.rows, static_cast<int>(f.keypoints.size()));
+    for (const cv::KeyPoint& k : f.keypoints) {
+      EXPECT_TRUE(k.pt.x >= 0 && k.pt.y >= 0 && k.pt.x < img.cols && k.pt.y < img.rows) << k.pt;
+    }
   }
 }
