@@ -21,6 +21,7 @@
 #include "iraf_vo/features/feature_extractor.h"
 #include "iraf_vo/io/image_folder.h"
 #include "iraf_vo/io/trajectory.h"
+#include "iraf_vo/tracking/tracker.h"
 
 using namespace iraf_vo;
 
@@ -402,5 +403,25 @@ TEST(BadStageInput, FeatureExtractorExtremeValidParams) {
     for (const cv::KeyPoint& k : f.keypoints) {
       EXPECT_TRUE(k.pt.x >= 0 && k.pt.y >= 0 && k.pt.x < img.cols && k.pt.y < img.rows) << k.pt;
     }
+  }
+}
+
+// TrackerParams: fields with only a lower bound accepted +inf (validate() said ""), which then reached int
+// casts in the tracker (search radius / cell size -> grid index). Now rejected, naming the field.
+TEST(BadStageInput, TrackerParamsRejectInfinity) {
+  const double inf = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(validate(TrackerParams()), "");
+  for (double TrackerParams::*f : {&TrackerParams::search_radius_px, &TrackerParams::search_radius_wide_px,
+                                   &TrackerParams::search_radius_refine_px, &TrackerParams::pnp_threshold_px,
+                                   &TrackerParams::init_threshold_px, &TrackerParams::ba_huber_delta,
+                                   &TrackerParams::ba_max_solver_time_in_seconds}) {
+    TrackerParams p;
+    p.*f = inf;
+    if (f == &TrackerParams::search_radius_px) p.search_radius_wide_px = inf;
+    EXPECT_FALSE(validate(p).empty());
+    std::string err;
+    auto cam = makeCamera("pinhole-radtan", 640, 480, {400, 400, 320, 240, 0, 0, 0, 0}, &err);
+    ASSERT_TRUE(cam) << err;
+    EXPECT_THROW(Tracker(cam, p), std::invalid_argument);
   }
 }
