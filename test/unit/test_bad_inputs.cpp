@@ -22,6 +22,9 @@
 #include "iraf_vo/io/image_folder.h"
 #include "iraf_vo/io/trajectory.h"
 #include "iraf_vo/tracking/tracker.h"
+#include "iraf_vo/tracking/tracker_params_io.h"
+#include "iraf_vo/enhance/enhance_params_io.h"
+#include <yaml-cpp/yaml.h>
 
 using namespace iraf_vo;
 
@@ -424,4 +427,48 @@ TEST(BadStageInput, TrackerParamsRejectInfinity) {
     ASSERT_TRUE(cam) << err;
     EXPECT_THROW(Tracker(cam, p), std::invalid_argument);
   }
+}
+
+// Found by fuzz_camera_yaml (clang UBSan float-cast-overflow): resolution [5.7e19, 512] was cast to int before
+// the range check. Also rows * cols of a camera_info matrix with huge rows / cols overflowed int.
+// (Undefined behaviour only shows under UBSan: scripts/test.sh runs this test in build-asan/ in CI.)
+TEST(BadCamera, HugeResolutionAndMatrixSizeAreErrors) {
+  std::string text = kEurocYaml;
+  text.replace(text.find("[752, 480]"), 10, "[56666666666666666612, 512]");
+  std::string err;
+  EXPECT_FALSE(loadCameraFromString(text, "huge.yaml", &err));
+  EXPECT_NE(err.find("resolution"), std::string::npos) << err;
+  EXPECT_NE(err.find("huge.yaml"), std::string::npos) << err;
+  const std::string info =
+      "image_width: 640\nimage_height: 480\n"
+      "camera_matrix: {rows: 3, cols: 3, data: [500, 0, 320, 0, 500, 240, 0, 0, 1]}\n"
+      "distortion_model: plumb_bob\n"
+      "distortion_coefficients: {rows: 100000, cols: 100000, data: [0, 0, 0, 0, 0]}\n";
+  err.clear();
+  EXPECT_FALSE(loadCameraFromString(info, "info.yaml", &err));
+  EXPECT_NE(err.find("distortion_coefficients"), std::string::npos) << err;
+}
+
+// Found by fuzz_params_yaml: a params map with a non-scalar key ("? ? 4", a map as key) made
+// loadTrackerParams (and loadEnhanceParams, same code) throw YAML::TypedBadConversion instead of returning false.
+TEST(BadParamsYaml, NonScalarKeyIsAnErrorNotAnException) {
+  const YAML::Node node = YAML::Load("? ? 4");
+  ASSERT_TRUE(node.IsMap());
+  std::string err;
+  TrackerParams tp;
+  bool ok = true;
+  EXPECT_NO_THROW(ok = loadTrackerParams(node, &tp, &err));
+  EXPECT_FALSE(ok);
+  EXPECT_FALSE(err.empty());
+  EnhanceParams ep;
+  err.clear();
+  ok = true;
+  EXPECT_NO_THROW(ok = loadEnhanceParams(node, &ep, &err));
+  EXPECT_FALSE(ok);
+  EXPECT_FALSE(err.empty());
+  FeatureParams fp;
+  err.clear();
+  ok = true;
+  EXPECT_NO_THROW(ok = loadFeatureParams(node, &fp, &err));
+  EXPECT_FALSE(ok);
 }
