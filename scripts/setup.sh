@@ -34,9 +34,10 @@ PACKAGES=(
   python3-sensor-msgs python3-geometry-msgs python3-nav-msgs python3-tf2-msgs
   libceres-dev libeigen3-dev libopencv-dev libyaml-cpp-dev libgtest-dev
   python3-numpy python3-matplotlib python3-yaml python3-opencv
-  opencv-doc
+  opencv-doc rviz
 )
-if [ "${IRAF_VO_WITH_RVIZ:-0}" = 1 ]; then PACKAGES+=(rviz xvfb); fi
+# screenshots of rviz without a display (README figure): IRAF_VO_WITH_XVFB=1
+if [ "${IRAF_VO_WITH_XVFB:-0}" = 1 ]; then PACKAGES+=(xvfb x11-apps); fi
 
 if [ "$INSTALL" = 1 ]; then
   missing=()

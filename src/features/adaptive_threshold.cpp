@@ -1,5 +1,6 @@
 #include "iraf_vo/features/adaptive_threshold.h"
 
+#include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/imgproc.hpp>
 
 namespace iraf_vo {
@@ -39,25 +40,28 @@ double meanGradientMagnitude(const cv::Mat& gray, cv::Mat* dx, cv::Mat* dy, cv::
   if (gray.empty()) return 0.0;
   // eq. (14): I_x, I_y by 3x3 Sobel; F_g = mean sqrt(I_x^2 + I_y^2)
   cv::spatialGradient(gray, *dx, *dy, 3, cv::BORDER_REPLICATE);
+  (void)mag;
   double sum = 0.0;
-  mag->create(1, gray.cols, CV_32F);
-  float* m = mag->ptr<float>();
   for (int r = 0; r < gray.rows; ++r) {
     const int16_t* gx = dx->ptr<int16_t>(r);
     const int16_t* gy = dy->ptr<int16_t>(r);
-    // Integer squares, then a vectorisable float sqrt (no errno path: the argument is never negative).
-    for (int c = 0; c < gray.cols; ++c) m[c] = static_cast<float>(gx[c] * gx[c] + gy[c] * gy[c]);
-    cv::sqrt(*mag, *mag);
-    float s0 = 0.f, s1 = 0.f, s2 = 0.f, s3 = 0.f;
+    float row_sum = 0.f;
     int c = 0;
-    for (; c + 3 < gray.cols; c += 4) {
-      s0 += m[c];
-      s1 += m[c + 1];
-      s2 += m[c + 2];
-      s3 += m[c + 3];
+#if CV_SIMD
+    // sqrt(I_x^2 + I_y^2) with OpenCV's universal intrinsics (int16 -> int32 -> float, vector sqrt).
+    cv::v_float32 acc = cv::vx_setzero_f32();
+    for (; c + cv::v_int16::nlanes <= gray.cols; c += cv::v_int16::nlanes) {
+      cv::v_int32 x0, x1, y0, y1;
+      cv::v_expand(cv::vx_load(gx + c), x0, x1);
+      cv::v_expand(cv::vx_load(gy + c), y0, y1);
+      const cv::v_float32 fx0 = cv::v_cvt_f32(x0), fx1 = cv::v_cvt_f32(x1);
+      const cv::v_float32 fy0 = cv::v_cvt_f32(y0), fy1 = cv::v_cvt_f32(y1);
+      acc += cv::v_sqrt(cv::v_fma(fx0, fx0, fy0 * fy0)) + cv::v_sqrt(cv::v_fma(fx1, fx1, fy1 * fy1));
     }
-    for (; c < gray.cols; ++c) s0 += m[c];
-    sum += static_cast<double>(s0) + s1 + s2 + s3;
+    row_sum = cv::v_reduce_sum(acc);
+#endif
+    for (; c < gray.cols; ++c) row_sum += std::sqrt(static_cast<float>(gx[c] * gx[c] + gy[c] * gy[c]));
+    sum += row_sum;
   }
   return sum / (static_cast<double>(gray.rows) * gray.cols);
 }

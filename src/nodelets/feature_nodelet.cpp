@@ -11,9 +11,11 @@
 
 #include <boost/thread/recursive_mutex.hpp>
 #include <algorithm>
+#include <deque>
 #include <memory>
 #include <mutex>
 
+#include "iraf_vo/EnhanceStats.h"
 #include "iraf_vo/FeaturesConfig.h"
 #include "iraf_vo/features/feature_extractor.h"
 #include "iraf_vo/ros/feature_conversion.h"
@@ -92,10 +94,27 @@ class FeatureNodelet : public nodelet::Nodelet {
     std::lock_guard<std::mutex> lock(connect_mutex_);
     if (features_pub_.getNumSubscribers() == 0 && image_pub_.getNumSubscribers() == 0) {
       sub_.shutdown();
+      stats_sub_.shutdown();
     } else if (!sub_) {
       image_transport::TransportHints hints("raw", ros::TransportHints(), getPrivateNodeHandle());
       sub_ = it_->subscribe("image_enhanced", queue_size_, &FeatureNodelet::imageCb, this, hints);
+      // Optional: the enhancement class of each frame, matched by stamp (Features.brightness, 0 if unknown).
+      stats_sub_ = getNodeHandle().subscribe("enhance_stats", 20, &FeatureNodelet::statsCb, this);
     }
+  }
+
+  void statsCb(const iraf_vo::EnhanceStatsConstPtr& msg) {
+    std::lock_guard<std::mutex> lock(brightness_mutex_);
+    brightness_.emplace_back(msg->header.stamp, msg->brightness);
+    while (brightness_.size() > 64) brightness_.pop_front();
+  }
+
+  // Enhancement class of the frame with this stamp if its EnhanceStats arrived, else 0 (unknown).
+  int brightnessOf(const ros::Time& stamp) {
+    std::lock_guard<std::mutex> lock(brightness_mutex_);
+    for (auto it = brightness_.rbegin(); it != brightness_.rend(); ++it)
+      if (it->first == stamp) return it->second;
+    return 0;
   }
 
   void imageCb(const sensor_msgs::ImageConstPtr& msg) {
@@ -120,6 +139,8 @@ class FeatureNodelet : public nodelet::Nodelet {
       NODELET_ERROR_THROTTLE(5.0, "features: dropping frame (stamp %.3f): %s", msg->header.stamp.toSec(), e.what());
       return;
     }
+    // Looked up after the extraction: EnhanceNodelet publishes its stats right after the image.
+    frame.stats.brightness = brightnessOf(msg->header.stamp);
     NODELET_DEBUG_THROTTLE(2.0, "features: %zu keypoints (%d culled), F_t^g %.1f, %.2f/%.2f/%.2f ms",
                            frame.keypoints.size(), frame.stats.culled, frame.stats.global_threshold,
                            frame.stats.ms_threshold, frame.stats.ms_detect, frame.stats.ms_cull);
@@ -165,6 +186,9 @@ class FeatureNodelet : public nodelet::Nodelet {
   image_transport::Subscriber sub_;
   image_transport::Publisher image_pub_;
   ros::Publisher features_pub_;
+  ros::Subscriber stats_sub_;
+  std::mutex brightness_mutex_;
+  std::deque<std::pair<ros::Time, int>> brightness_;  // (stamp, EnhanceStats.brightness) of recent frames
   int queue_size_ = 5;
   std::mutex connect_mutex_;
 

@@ -64,6 +64,11 @@ Renderer::Renderer(CameraModelPtr camera, std::shared_ptr<const Scene> scene, co
       if (centre(c, rn, &bv)) a = std::max(a, std::acos(std::min(1.0, b0.normalized().dot(bv.normalized()))));
       footprint_[static_cast<size_t>(r) * w_ + c] = static_cast<float>(a / ss_);
     }
+  // LOD bound valid for every texture (levels l0 and l0 + 1 must exist).
+  int levels = 64;
+  for (const SceneTexture& t : scene_->textures()) levels = std::min(levels, t.levels());
+  max_lod_ = static_cast<float>(std::max(0, levels - 1)) - 1e-3f;
+  if (levels < 2) max_lod_ = 0.f;
   // Tile cones for box culling.
   tiles_x_ = (w_ + kTile - 1) / kTile, tiles_y_ = (h_ + kTile - 1) / kTile;
   tile_axis_.assign(static_cast<size_t>(tiles_x_) * tiles_y_, Eigen::Vector3f::UnitZ());
@@ -186,7 +191,9 @@ void Renderer::renderSpan(const Eigen::Matrix3f& R, const Eigen::Vector3f& o, in
   // Same computation as Scene::castRay + Scene::shade, written as branch-free loops over up to kTile
   // pixels in structure-of-arrays form so that the compiler vectorizes everything but the texture reads.
   constexpr int N = kTile;
-  alignas(64) float dx[N], dy[N], dz[N], ix[N], iy[N], iz[N], t[N], u[N], v[N], shade[N], fp[N], bz[N];
+  alignas(64) float dx[N], dy[N], dz[N], ix[N], iy[N], iz[N], t[N], shade[N], bz[N];
+  alignas(64) float fx0[N], fy0[N], fx1[N], fy1[N], wb[N];  // texel fractions (levels l0, l0+1), level blend
+  alignas(64) int xi0[N], yi0[N], xi1[N], yi1[N], lv[N];     // texel indices (offset by kOff), level l0
   alignas(64) int axis[N], surf[N];
   const Scene& scene = *scene_;
   const Eigen::Vector3f lo = scene.roomLo(), hi = scene.roomHi(), ext = hi - lo;
@@ -201,7 +208,8 @@ void Renderer::renderSpan(const Eigen::Matrix3f& R, const Eigen::Vector3f& o, in
   // Pass 1: world directions, room exit (nearest of the three faces the ray points to).
   for (int i = 0; i < N; ++i) {
     const float b0 = bxp[i], b1 = byp[i], b2 = bzp[i];  // arrays padded by kTile: no bounds branch
-    const float x = r00 * b0 + r01 * b1 + r02 * b2, y = r10 * b0 + r11 * b1 + r12 * b2, z = r20 * b0 + r21 * b1 + r22 * b2;
+    float x = r00 * b0 + r01 * b1 + r02 * b2, y = r10 * b0 + r11 * b1 + r12 * b2, z = r20 * b0 + r21 * b1 + r22 * b2;
+    x += std::copysign(1e-20f, x), y += std::copysign(1e-20f, y), z += std::copysign(1e-20f, z);  // as castRay
     dx[i] = x, dy[i] = y, dz[i] = z, bz[i] = b2;
     ix[i] = 1.f / x, iy[i] = 1.f / y, iz[i] = 1.f / z;
     const float tx = ((x > 0 ? hix : lox) - ox) * ix[i];
@@ -242,30 +250,53 @@ void Renderer::renderSpan(const Eigen::Matrix3f& R, const Eigen::Vector3f& o, in
   const float tpm = sp.texels_per_m;
   const float* __restrict fpp = footprint_.data() + p0;
   const float uo_x = 0.5f * ext.y(), uo_y = 0.5f * ext.x(), vo_wall = ext.z(), vo_floor = 0.5f * ext.y();
+  const float max_lod = max_lod_;
+  constexpr float kOff = 16384.f;
   for (int i = 0; i < N; ++i) {
-    // Face selection by 0/1 weights (arithmetic instead of branches: vectorizes).
-    const int a = axis[i];
-    const float e0 = static_cast<float>(a == 0), e1 = static_cast<float>(a == 1), e2 = 1.f - e0 - e1;
+    // Face selection by 0/1 weights and min/max written with fabs/copysign: no comparisons, so the loop
+    // vectorizes under the default -ftrapping-math.
+    const int a = axis[i];  // 0, 1, 2 -> weights by integer arithmetic
+    const float e0 = static_cast<float>(((a - 1) * (a - 2)) >> 1), e1 = static_cast<float>(a * (2 - a)),
+                e2 = 1.f - e0 - e1;
+    const float af = e1 + 2.f * e2;
     const float tt = t[i];
     const float px = ox + tt * dx[i], py = oy + tt * dy[i], pz = oz + tt * dz[i];
     const float da = e0 * dx[i] + e1 * dy[i] + e2 * dz[i];
-    const float nsgn = static_cast<float>(da <= 0) * 2.f - 1.f;  // normal faces the ray origin
+    const float nsgn = -std::copysign(1.f, da);  // normal faces the ray origin (da != 0)
     // u = p . (up x n) on walls, x on floor/ceiling; v = -z on walls, n * y on floor/ceiling.
     float uu = e0 * nsgn * py - e1 * nsgn * px + e2 * px;
     float vv = e2 * nsgn * py - (1.f - e2) * pz;
-    const float room = static_cast<float>(surf[i] < 6);
-    const float sf = static_cast<float>(surf[i]), af = static_cast<float>(a);
+    const float room = static_cast<float>(((5 - surf[i]) >> 31) + 1);  // 1 for room faces (surf < 6)
+    const float sf = static_cast<float>(surf[i]);
     uu += room * (e0 * uo_x + (1.f - e0) * uo_y) + (1.f - room) * 0.37f * (sf + af);
     vv += room * (e2 * vo_floor + (1.f - e2) * vo_wall) + (1.f - room) * 0.23f * (sf + 2.f * af);
-    u[i] = uu, v[i] = vv;
     const float Lx = lx - px, Ly = ly - py, Lz = lz - pz;
     const float d2 = Lx * Lx + Ly * Ly + Lz * Lz;
     const float ndotl = nsgn * (e0 * Lx + e1 * Ly + e2 * Lz);
-    const float cosang = std::max(0.f, ndotl) * rsqrt(d2 + 1e-12f);
-    const float direct = std::min(1.f, cosang * 1.6f / (1.f + d2 * (1.f / 9.f)));
+    const float cosang = 0.5f * (ndotl + std::fabs(ndotl)) * rsqrt(d2 + 1e-12f);  // max(0, n.l) / |l|
+    const float lin = cosang * 1.6f / (1.f + d2 * (1.f / 9.f));
+    const float direct = 0.5f * (lin + 1.f - std::fabs(lin - 1.f));  // min(1, lin)
     shade[i] = amb + (1.f - amb) * direct;
-    const float cosi = std::max(0.05f, std::abs(da));
-    fp[i] = tt * fpp[i] * tpm * rsqrt(cosi);
+    const float ada = std::fabs(da);
+    const float cosi = 0.5f * (ada + 0.05f + std::fabs(ada - 0.05f));  // max(0.05, |da|)
+    const float fpt = tt * fpp[i] * tpm * rsqrt(cosi);  // footprint in level-0 texels
+    // Mip level (as SceneTexture::sample, comparison-free): lod = log2(max(1, fp)) clamped to max_lod_,
+    // "brilinear" blend weight of level l0 + 1, texel coordinates of both levels. kOff (a multiple of
+    // every texture size) keeps coordinates positive so that truncation is floor; 1/512-texel precision.
+    const float f1 = 0.5f * (fpt + 1.f + std::fabs(fpt - 1.f));
+    const float lod0 = detail::fastLog2(f1);
+    const float lod = 0.5f * (lod0 + max_lod - std::fabs(lod0 - max_lod));
+    const int l0 = static_cast<int>(lod);
+    const float fr = 2.5f * (lod - static_cast<float>(l0)) - 0.75f;
+    const float fr1 = 0.5f * (fr + 1.f - std::fabs(fr - 1.f));
+    wb[i] = 0.5f * (fr1 + std::fabs(fr1));
+    lv[i] = l0;
+    const float s0 = tpm * __builtin_bit_cast(float, (127 - l0) << 23);  // tpm / 2^l0
+    const float x0 = uu * s0 - 0.5f + kOff, y0 = vv * s0 - 0.5f + kOff;
+    const float x1 = uu * (0.5f * s0) - 0.5f + kOff, y1 = vv * (0.5f * s0) - 0.5f + kOff;
+    xi0[i] = static_cast<int>(x0), yi0[i] = static_cast<int>(y0), xi1[i] = static_cast<int>(x1), yi1[i] = static_cast<int>(y1);
+    fx0[i] = x0 - static_cast<float>(xi0[i]), fy0[i] = y0 - static_cast<float>(yi0[i]);
+    fx1[i] = x1 - static_cast<float>(xi1[i]), fy1[i] = y1 - static_cast<float>(yi1[i]);
   }
   // Pass 4: texture reads (gathers), output.
   const float scale = static_cast<float>(255.0 * params_.brightness);
@@ -275,8 +306,23 @@ void Renderer::renderSpan(const Eigen::Matrix3f& R, const Eigen::Vector3f& o, in
     const bool ok = valid[i] && t[i] > 0.f && std::isfinite(t[i]);
     const int s = surf[i];
     const int ti = s < 6 ? s : boxes[s - 6].texture;
-    out[c0 + i] = ok ? tex[ti].sample(u[i], v[i], fp[i]) * shade[i] * scale : 0.f;
-    if (dep) dep[c0 + i] = ok ? t[i] * bz[i] : 0.f;
+    if (!ok) {
+      out[c0 + i] = 0.f;
+      if (dep) dep[c0 + i] = 0.f;
+      continue;
+    }
+    const SceneTexture& tx = tex[ti];
+    float albedo;
+    if (wb[i] <= 0.f) {
+      albedo = tx.fetch(lv[i], xi0[i], yi0[i], fx0[i], fy0[i]);
+    } else if (wb[i] >= 1.f) {
+      albedo = tx.fetch(lv[i] + 1, xi1[i], yi1[i], fx1[i], fy1[i]);
+    } else {
+      const float a = tx.fetch(lv[i], xi0[i], yi0[i], fx0[i], fy0[i]);
+      albedo = a + wb[i] * (tx.fetch(lv[i] + 1, xi1[i], yi1[i], fx1[i], fy1[i]) - a);
+    }
+    out[c0 + i] = albedo * shade[i] * scale;
+    if (dep) dep[c0 + i] = t[i] * bz[i];
   }
 }
 
@@ -285,6 +331,13 @@ void Renderer::render(const Eigen::Isometry3d& T_W_C, cv::Mat* radiance, cv::Mat
   if (depth) {
     depth->create(h_, w_, CV_32FC1);
     depth->setTo(0.f);
+  }
+  // A pose that is not finite or outside the room sees nothing (as Scene::castRay): black image.
+  const Eigen::Vector3f o = T_W_C.translation().cast<float>();
+  if (!T_W_C.matrix().allFinite() || (o.array() <= scene_->roomLo().array()).any() ||
+      (o.array() >= scene_->roomHi().array()).any()) {
+    radiance->setTo(0.f);
+    return;
   }
   if (params_.threads == 1) {
     renderTileRows(T_W_C, 0, tiles_y_, radiance, depth);

@@ -130,7 +130,9 @@ bool simulateSequence(const Renderer& renderer, const TrajectoryParams& traj, co
     return false;
   }
   const int n = renderer.params().frames;
-  std::ofstream csv, gt;
+  const bool write_depth = renderer.params().write_depth;
+  std::ofstream csv, gt, depth_csv;
+  const std::string depth_dir = out_dir + "/mav0/depth0";
   const std::string cam_dir = out_dir + "/mav0/cam0";
   if (!out_dir.empty()) {
     if (!makeDirs(cam_dir + "/data", error)) return false;
@@ -143,6 +145,15 @@ bool simulateSequence(const Renderer& renderer, const TrajectoryParams& traj, co
       return false;
     }
     csv << "#timestamp [ns],filename\n";
+    if (write_depth) {
+      if (!makeDirs(depth_dir + "/data", error)) return false;
+      depth_csv.open(depth_dir + "/data.csv");
+      if (!depth_csv) {
+        setError(error, depth_dir + "/data.csv: cannot write");
+        return false;
+      }
+      depth_csv << "#timestamp [ns],filename (16-bit PNG, z-depth in mm, 0 = no hit)\n";
+    }
     gt << "# iraf_vo_simulate ground truth: pose of the camera in the world (T_W_C), TUM format\n"
        << "# timestamp[s] tx ty tz qx qy qz qw\n";
   }
@@ -154,7 +165,7 @@ bool simulateSequence(const Renderer& renderer, const TrajectoryParams& traj, co
     f.stamp_ns = renderer.frameStampNs(i);
     f.T_W_C = trajectoryPose(traj, renderer.frameTime(i));
     auto t0 = std::chrono::steady_clock::now();
-    renderer.renderFrame(traj, i, &radiance);
+    renderer.renderFrame(traj, i, &radiance, write_depth ? &f.depth : nullptr);
     rep.render_ms += msSince(t0);
     t0 = std::chrono::steady_clock::now();
     applyPhotometric(radiance, i, photometric, &f.image);
@@ -167,6 +178,15 @@ bool simulateSequence(const Renderer& renderer, const TrajectoryParams& traj, co
         return false;
       }
       csv << f.stamp_ns << ',' << name << '\n';
+      if (write_depth) {
+        cv::Mat mm;
+        f.depth.convertTo(mm, CV_16U, 1000.0);  // saturates at 65.535 m
+        if (!cv::imwrite(depth_dir + "/data/" + name, mm)) {
+          setError(error, depth_dir + "/data/" + name + ": cannot write PNG");
+          return false;
+        }
+        depth_csv << f.stamp_ns << ',' << name << '\n';
+      }
       gt << tumLine(f.stamp_ns, f.T_W_C) << '\n';
       rep.write_ms += msSince(t0);
     }

@@ -3,7 +3,7 @@
 //
 //   iraf_vo_keypoint_curve [--input DIR] [--output FILE.csv] [--min 5] [--max 60] [--step 5] [--mu-expected MU]
 //
-// DIR (default /work/shared/data/lowlight_stills) is searched recursively for .jpg/.jpeg/.png/.bmp images.
+// DIR (required; e.g. ../shared/data/lowlight_stills beside the checkout) is searched recursively for .jpg/.jpeg/.png/.bmp images.
 // For each image, as loaded ("original") and after iraf_vo::Enhancer ("enhanced"):
 //   * FAST (9/16, non-max suppression) corners at each fixed threshold, over the detection area the feature
 //     stage uses (16 px border), on the full-resolution image;
@@ -31,10 +31,10 @@ using namespace iraf_vo;
 namespace {
 
 void usage() {
-  std::cerr << "usage: iraf_vo_keypoint_curve [--input DIR] [--output FILE.csv] [--min T] [--max T] [--step S]\n"
+  std::cerr << "usage: iraf_vo_keypoint_curve --input DIR [--output FILE.csv] [--min T] [--max T] [--step S]\n"
                "                              [--mu-expected MU]\n"
-               "  defaults: --input /work/shared/data/lowlight_stills --output keypoint_curve.csv --min 5 --max 60 "
-               "--step 5\n";
+               "  DIR: low-light stills, e.g. ../shared/data/lowlight_stills beside the checkout\n"
+               "  defaults: --output keypoint_curve.csv --min 5 --max 60 --step 5\n";
 }
 
 bool isImage(const fs::path& p) {
@@ -46,7 +46,7 @@ bool isImage(const fs::path& p) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string input = "/work/shared/data/lowlight_stills", output = "keypoint_curve.csv";
+  std::string input, output = "keypoint_curve.csv";
   int t_min = 5, t_max = 60, step = 5;
   double mu_expected = -1.0;
   for (int i = 1; i < argc; ++i) {
@@ -83,6 +83,11 @@ int main(int argc, char** argv) {
     return 2;
   }
   std::error_code ec;
+  if (input.empty()) {
+    std::cerr << "iraf_vo_keypoint_curve: --input DIR is required\n";
+    usage();
+    return 2;
+  }
   if (!fs::is_directory(input, ec)) {
     std::cerr << "iraf_vo_keypoint_curve: input folder '" << input << "' does not exist\n";
     return 1;

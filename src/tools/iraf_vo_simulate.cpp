@@ -4,7 +4,7 @@
 //
 //   iraf_vo_simulate --preset clean|dark|overexposed|flicker|mixed --out DIR [--frames N]
 //       [--camera pinhole|fisheye|path/to/sensor.yaml] [--width W --height H] [--seed S] [--speed X]
-//       [--supersample S] [--motion-blur K] [--bag OUT.bag] [--threads N] [--no-photos]
+//       [--supersample S] [--motion-blur K] [--bag OUT.bag] [--threads N] [--no-photos] [--depth]
 //   iraf_vo_simulate --benchmark N [--camera ...]   (render speed, single core and all cores)
 #include <chrono>
 #include <ctime>
@@ -34,6 +34,7 @@ void usage(std::ostream& os) {
         "         [--width W --height H] [--seed S] [--speed X (loop rate, 1 = one loop in 20 s)]\n"
         "         [--supersample S (1..4)] [--motion-blur K (sub-frame renders)] [--exposure SEC]\n"
         "         [--bag OUT.bag] [--threads N (0 = all cores)] [--no-photos]\n"
+        "         [--depth (also OUT/mav0/depth0: 16-bit PNG z-depth in mm)]\n"
         "       iraf_vo_simulate --benchmark N [--camera ...] [--width W --height H]\n";
 }
 
@@ -79,6 +80,10 @@ int main(int argc, char** argv) {
     }
     if (a == "--no-photos") {
       scene_params.photo_dir.clear();
+      continue;
+    }
+    if (a == "--depth") {
+      sim.write_depth = true;
       continue;
     }
     if (i + 1 >= argc) {

@@ -15,6 +15,7 @@
 #include <mutex>
 
 #include "common/test_data.h"
+#include "iraf_vo/EnhanceStats.h"
 #include "iraf_vo/Features.h"
 #include "iraf_vo/FeaturesConfig.h"
 #include "iraf_vo/ros/feature_conversion.h"
@@ -23,7 +24,10 @@ namespace enc = sensor_msgs::image_encodings;
 
 class FeatureNodeletTest : public ::testing::Test {
  protected:
-  void SetUp() override { pub_ = nh_.advertise<sensor_msgs::Image>("image_enhanced", 10); }
+  void SetUp() override {
+    pub_ = nh_.advertise<sensor_msgs::Image>("image_enhanced", 10);
+    stats_pub_ = nh_.advertise<iraf_vo::EnhanceStats>("enhance_stats", 10);
+  }
 
   static ros::Time stampOf(uint32_t id) { return ros::Time(2000.0 + id * 0.05); }
   static uint32_t idOf(const ros::Time& t) { return static_cast<uint32_t>(std::lround((t.toSec() - 2000.0) / 0.05)); }
@@ -74,7 +78,7 @@ class FeatureNodeletTest : public ::testing::Test {
   }
 
   ros::NodeHandle nh_;
-  ros::Publisher pub_;
+  ros::Publisher pub_, stats_pub_;
   ros::Subscriber feat_sub_, image_sub_;
   std::mutex mutex_;
   std::map<uint32_t, iraf_vo::FeaturesConstPtr> features_;
@@ -128,6 +132,21 @@ TEST_F(FeatureNodeletTest, FeaturesOutStampsSizesBadInputAndLiveTuning) {
   {
     std::lock_guard<std::mutex> l(mutex_);
     EXPECT_EQ(features_[1]->x, features_[2]->x) << "mono8 and bgr8 of the same image differ";
+    EXPECT_EQ(features_[1]->brightness, 0) << "no EnhanceStats was published: unknown = 0";
+  }
+
+  // The enhancement class is taken from enhance_stats with the same stamp.
+  ASSERT_TRUE(waitFor([&] { return stats_pub_.getNumSubscribers() > 0; }, 5.0)) << "no enhance_stats subscription";
+  {
+    const uint32_t dim_id = id++;
+    iraf_vo::EnhanceStats st;
+    st.header.stamp = stampOf(dim_id);
+    st.brightness = iraf_vo::EnhanceStats::BRIGHTNESS_DIM;
+    stats_pub_.publish(st);
+    ros::WallDuration(0.2).sleep();
+    const auto f = roundTrip(img, enc::MONO8, dim_id);
+    ASSERT_TRUE(f);
+    EXPECT_EQ(f->brightness, iraf_vo::EnhanceStats::BRIGHTNESS_DIM);
   }
 
   // Bad input is dropped; the next good frame still arrives.
@@ -175,6 +194,52 @@ TEST_F(FeatureNodeletTest, FeaturesOutStampsSizesBadInputAndLiveTuning) {
   EXPECT_NE(after->global_threshold, before->global_threshold);
   for (int16_t t : after->fast_threshold) EXPECT_EQ(t, 45);
   EXPECT_LT(after->x.size(), before->x.size());
+}
+
+TEST(FeatureConversion, RoundTripAndInconsistentMessages) {
+  iraf_vo::FeatureFrame f;
+  f.width = 64;
+  f.height = 48;
+  f.keypoints = {cv::KeyPoint(10.5f, 20.25f, 37.2f, 123.f, 55.f, 1, 17), cv::KeyPoint(30.f, 40.f, 31.f, 5.f, 9.f, 0, 7)};
+  f.descriptors = cv::Mat(2, 32, CV_8U);
+  cv::randu(f.descriptors, 0, 256);
+  f.stability = {0.9f, 0.45f};
+  f.stats.global_threshold = 19.5;
+  f.stats.culled = 3;
+  f.stats.detected = 5;
+  f.stats.brightness = -1;
+  std_msgs::Header h;
+  h.stamp = ros::Time(12.5);
+  iraf_vo::Features m;
+  iraf_vo::toMsg(f, h, &m);
+  iraf_vo::FeatureFrame g;
+  std::string err;
+  ASSERT_TRUE(iraf_vo::fromMsg(m, &g, &err)) << err;
+  EXPECT_DOUBLE_EQ(g.stamp, 12.5);
+  EXPECT_EQ(g.width, 64);
+  ASSERT_EQ(g.keypoints.size(), 2u);
+  EXPECT_EQ(g.keypoints[0].pt, f.keypoints[0].pt);
+  EXPECT_FLOAT_EQ(g.keypoints[0].angle, 123.f);
+  EXPECT_EQ(g.keypoints[0].octave, 1);
+  EXPECT_EQ(g.keypoints[0].class_id, 17);
+  EXPECT_EQ(cv::norm(g.descriptors, f.descriptors, cv::NORM_INF), 0.0);
+  EXPECT_EQ(g.stability, f.stability);
+  EXPECT_DOUBLE_EQ(g.stats.global_threshold, 19.5);
+  EXPECT_EQ(g.stats.culled, 3);
+  EXPECT_EQ(g.stats.brightness, -1);
+
+  iraf_vo::Features bad = m;
+  bad.y.pop_back();
+  EXPECT_FALSE(iraf_vo::fromMsg(bad, &g, &err));
+  EXPECT_NE(err.find("differ in length"), std::string::npos) << err;
+  bad = m;
+  bad.descriptors.resize(40);
+  EXPECT_FALSE(iraf_vo::fromMsg(bad, &g, &err));
+  EXPECT_NE(err.find("descriptors"), std::string::npos) << err;
+  bad = m;
+  bad.x[1] = std::nanf("");
+  EXPECT_FALSE(iraf_vo::fromMsg(bad, &g, &err));
+  EXPECT_NE(err.find("non-finite"), std::string::npos) << err;
 }
 
 int main(int argc, char** argv) {

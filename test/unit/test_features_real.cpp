@@ -127,7 +127,7 @@ TEST(FeaturesReal, DarkImageLowersThresholdAndKeepsMoreThanFixed) {
 // Repeatability under a synthetic gain change of the second image (x0.3, and x2.0 with clipping).
 // The hypothesis "enhancement + adaptive threshold >= baseline" does NOT hold on these pairs (the enhancer's
 // nonlinear gamma/unsharp mapping differs between the dark and the normal image; see
-// /work/notes/features.md for the measured numbers), so the assertion is a regression guard: at least
+// the README feature-stage section for the measured numbers), so the assertion is a regression guard: at least
 // kMinRatio of the baseline's homography inliers. The numbers are printed for the notes.
 constexpr double kMinRatio = 0.6;
 

@@ -1,7 +1,10 @@
 // Photometric events: each one does what it says, presets, determinism, bad input.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <string>
 
@@ -204,7 +207,7 @@ TEST(SimPhotometric, MixedPresetAndEventsCsv) {
     in_normal = normal;
   }
   EXPECT_GE(normal_runs, 5);
-  const std::string path = ::testing::TempDir() + "/iraf_vo_events.csv";
+  const std::string path = ::testing::TempDir() + "/iraf_vo_" + std::to_string(::getpid()) + "_events.csv";
   std::string err;
   ASSERT_TRUE(iraf_vo::writeEventsCsv(path, p, n, &err)) << err;
   std::ifstream f(path);
@@ -213,6 +216,7 @@ TEST(SimPhotometric, MixedPresetAndEventsCsv) {
   while (std::getline(f, line))
     if (!line.empty() && line[0] != '#') ++rows;
   EXPECT_EQ(rows, static_cast<int>(p.events.size()));
+  std::remove(path.c_str());
   EXPECT_FALSE(iraf_vo::photometricPreset("sunny", n, false, 1, &p));
 }
 

@@ -305,6 +305,26 @@ TEST(SimRender, BadInputIsRejected) {
   iraf_vo::SceneHit hit;
   EXPECT_FALSE(defaultRoom()->castRay(Eigen::Vector3f(100, 0, 1), Eigen::Vector3f(1, 0, 0), &hit));
   EXPECT_FALSE(defaultRoom()->castRay(Eigen::Vector3f(0, 0, 1), Eigen::Vector3f(NAN, 0, 0), &hit));
+  // A camera outside the room or a NaN pose renders black (no crash).
+  {
+    Renderer r(camera("pinhole", 64, 40), defaultRoom(), SimParams());
+    cv::Mat img, depth;
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation() = Eigen::Vector3d(50, 0, 1);
+    r.render(T, &img, &depth);
+    EXPECT_EQ(cv::countNonZero(img), 0);
+    T.translation() = Eigen::Vector3d(NAN, 0, 1);
+    r.render(T, &img, &depth);
+    EXPECT_EQ(cv::countNonZero(img), 0);
+    EXPECT_EQ(cv::countNonZero(depth), 0);
+  }
+  // Axis-parallel rays (exactly zero components) hit the right face.
+  ASSERT_TRUE(defaultRoom()->castRay(Eigen::Vector3f(0, 0, 1), Eigen::Vector3f(-1, 0, 0), &hit));
+  EXPECT_NEAR(hit.point.x(), -4.f, 1e-4f);
+  ASSERT_TRUE(defaultRoom()->castRay(Eigen::Vector3f(0, 0, 1), Eigen::Vector3f(0, 0, -1), &hit));
+  EXPECT_NEAR(hit.t, 1.f, 1e-5f);
+  EXPECT_EQ(hit.surface, 4);  // floor
+  EXPECT_FLOAT_EQ(hit.normal.z(), 1.f);
 }
 
 TEST(SimRender, SupersamplingAndMotionBlur) {

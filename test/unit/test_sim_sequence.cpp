@@ -2,6 +2,8 @@
 // iraf_vo_degrade keeping ground truth, calibration and the image count (missing images skipped).
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -12,6 +14,8 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "iraf_vo/camera/camera_loader.h"
+#include "iraf_vo/io/image_folder.h"
+#include "iraf_vo/io/trajectory.h"
 #include "iraf_vo/sim/photometric.h"
 #include "iraf_vo/sim/sequence.h"
 
@@ -19,8 +23,19 @@ namespace fs = std::filesystem;
 
 namespace {
 
+/// Per-process temp prefix so parallel runs (ctest -j, plain + sanitizer builds) never share files;
+/// removed at exit (same convention as the other test binaries).
+inline std::string tmpRoot() {
+  return (testing::TempDir().empty() ? std::string("/tmp/") : testing::TempDir()) + "iraf_vo_" +
+         std::to_string(::getpid()) + "_";
+}
+struct TmpCleanup : testing::Environment {
+  void TearDown() override { std::system(("rm -rf " + tmpRoot() + "*").c_str()); }
+};
+const testing::Environment* const kTmpCleanup = testing::AddGlobalTestEnvironment(new TmpCleanup);
+
 std::string freshDir(const std::string& name) {
-  const std::string d = ::testing::TempDir() + "/iraf_vo_sim_" + name;
+  const std::string d = tmpRoot() + "sim_" + name;
   fs::remove_all(d);
   return d;
 }
@@ -51,6 +66,7 @@ TEST(SimSequence, WritesAslFolderAndTumGroundTruth) {
   auto scene = std::make_shared<const iraf_vo::Scene>(iraf_vo::Scene::makeDefaultRoom(sp));
   iraf_vo::SimParams params;
   params.frames = 6;
+  params.write_depth = true;
   iraf_vo::Renderer r(cam, scene, params);
   iraf_vo::PhotometricParams ph;
   ASSERT_TRUE(iraf_vo::photometricPreset("mixed", params.frames, false, 1, &ph));
@@ -62,6 +78,15 @@ TEST(SimSequence, WritesAslFolderAndTumGroundTruth) {
                                         &err))
       << err;
   EXPECT_EQ(calls, 6);
+  // Depth maps (mm) agree with castPixel.
+  ASSERT_EQ(dataLines(out + "/mav0/depth0/data.csv").size(), 6u);
+  const cv::Mat dmm = cv::imread(out + "/mav0/depth0/data/1000000000050000000.png", cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(dmm.type(), CV_16UC1);
+  Eigen::Vector3d p_W;
+  double depth_m = 0;
+  ASSERT_TRUE(r.castPixel(iraf_vo::trajectoryPose(iraf_vo::TrajectoryParams(), 0.05), Eigen::Vector2d(64, 40), &p_W,
+                          &depth_m));
+  EXPECT_NEAR(dmm.at<uint16_t>(40, 64), depth_m * 1000.0, 1.0);
   const auto rows = dataLines(out + "/mav0/cam0/data.csv");
   ASSERT_EQ(rows.size(), 6u);
   EXPECT_EQ(rows[1], "1000000000050000000,1000000000050000000.png");  // 20 Hz, ns
@@ -95,6 +120,18 @@ TEST(SimSequence, WritesAslFolderAndTumGroundTruth) {
   EXPECT_NEAR(q.norm(), 1.0, 1e-8);
   EXPECT_LT(Eigen::AngleAxisd(q.toRotationMatrix().transpose() * T.linear()).angle(), 1e-7);
   EXPECT_EQ(dataLines(out + "/events.csv").size(), ph.events.size());
+
+  // The project's own readers (io/) accept the output: ASL folder with its camera, TUM ground truth.
+  iraf_vo::AslImageReader reader;
+  ASSERT_TRUE(reader.open(out, &err)) << err;
+  EXPECT_EQ(reader.size(), 6u);
+  EXPECT_TRUE(reader.warnings().empty());
+  ASSERT_TRUE(reader.loadCamera(&err)) << err;
+  iraf_vo::Trajectory traj;
+  ASSERT_TRUE(iraf_vo::readTumTrajectory(out + "/groundtruth.txt", &traj, &err)) << err;
+  ASSERT_EQ(traj.size(), 6u);
+  EXPECT_NEAR(traj.stamps[2] - traj.stamps[0], 0.1, 1e-6);
+  EXPECT_LT((traj.poses[2].translation() - T.translation()).norm(), 1e-8);
 }
 
 /// A tiny ASL sequence: n images (one row without its file), ground truth folders, sensor.yaml.

@@ -15,6 +15,7 @@ struct FeatureStats {
   double cell_threshold_max = 0.0;
   int detected = 0;                  // keypoints after distribution, before culling
   int culled = 0;                    // removed by the stability score (eqs. 21-23)
+  // Stage times [ms] are CPU time of the extracting thread (= wall time when it is not preempted).
   double ms_threshold = 0.0;         // adaptive threshold computation
   double ms_detect = 0.0;            // pyramid + FAST + distribution + orientation + descriptors
   double ms_cull = 0.0;

@@ -24,13 +24,14 @@ struct FeatureParams {
   int ini_th_fast = 20;
   int min_th_fast = 7;
   // eq. (15): F_t^g = alpha * F_h + beta * F_g, F_h in bits (log2), F_g = mean 3x3-Sobel magnitude.
-  // Chosen on EuRoC MH_01 (F_h ~ 7.6 bits, F_g ~ 63), its x0.2 darkened copy (F_h ~ 5.5, F_g ~ 12.5) and the
-  // DICM low-light stills: F_t^g ~ 20 (= ORB-SLAM's iniThFAST) on well-exposed EuRoC frames, ~ 9.5 on the
-  // darkened ones, 6..22 on DICM. A higher ceiling (alpha 2, beta 0.3 -> ~34) lost 5-25 % of the matched
-  // inliers between nearby EuRoC frames (see /work/notes/features.md).
+  // Chosen on EuRoC MH_01 (F_h ~ 7.6 bits, F_g ~ 63), its x0.2 darkened copy (F_h ~ 5.5, F_g ~ 12.5) and
+  // the DICM/LIME low-light stills: F_t^g ~ 20 (= ORB-SLAM's iniThFAST) on well-exposed EuRoC frames,
+  // ~ 9.3 on the darkened ones, 6..23 on the stills. A higher ceiling (alpha 2, beta 0.3 -> ~34) lost
+  // 5-25 % of the matched inliers between nearby EuRoC frames (README, feature stage).
   double alpha = 1.35;
   double beta = 0.15;
-  // eq. (19): F_t^l = delta * |I_m - t_o|. 1.0: on EuRoC half of the cells reach the F_t^g ceiling.
+  // eq. (19): F_t^l = delta * |I_m - t_o|. 1.0: on EuRoC ~55 % of the level-0 cells reach the F_t^g
+  // ceiling (median cell threshold = F_t^g ~ 20), ~21 % sit at ft_min.
   double delta = 1.0;
   // eq. (20): lower clip F_t,min^l (= ORB-SLAM's minThFAST); also the retry threshold for cells where F_t
   // found nothing.

@@ -30,6 +30,7 @@ struct SimParams {
   std::string camera = "pinhole";  // pinhole | fisheye | path/to/sensor.yaml
   int width = 0, height = 0;       // 0 = the camera's own resolution
   bool span_renderer = true;       // supersample 1: vectorizable 16-pixel spans; false: reference per-ray path
+  bool write_depth = false;        // simulateSequence: also OUT/mav0/depth0 (16-bit PNG, z-depth in mm)
 };
 
 /// Returns a message naming what is wrong, or "" when usable.
@@ -81,6 +82,7 @@ class Renderer {
   int tiles_x_ = 0, tiles_y_ = 0;
   std::vector<Eigen::Vector3f> tile_axis_;
   std::vector<float> tile_half_angle_;
+  float max_lod_ = 0.f;  // span renderer: LOD bound valid for every texture of the scene
 };
 
 }  // namespace iraf_vo

@@ -1,7 +1,7 @@
 // Textured 3D scene of the simulator: the inside of a room (axis-aligned box, z up, floor at z = 0)
 // plus axis-aligned boxes/pillars standing in it. Rays are intersected analytically (slab test), the
-// surface texture is sampled with trilinear mipmapping (level chosen from the pixel footprint), and a
-// smooth Lambertian shading from a ceiling light is applied. ROS-free.
+// surface texture is sampled with mipmapping (level chosen from the pixel footprint; two levels blended
+// around LOD mid-steps), and a smooth Lambertian shading from a ceiling light is applied. ROS-free.
 #pragma once
 
 #include <Eigen/Core>
@@ -22,11 +22,14 @@ class SceneTexture {
   /// `albedo` must be CV_8UC1 with power-of-two width and height; `texels_per_m` maps meters to texels.
   SceneTexture(const cv::Mat& albedo, float texels_per_m);
 
-  /// Trilinear sample in [0,1] at surface coordinates (u, v) in meters; `footprint_texels` is the
-  /// size of the pixel's footprint on the surface in level-0 texels (selects the mip level).
+  /// Mipmapped ("brilinear") sample in [0,1] at surface coordinates (u, v) in meters; `footprint_texels`
+  /// is the size of the pixel's footprint on the surface in level-0 texels (selects the mip level).
   float sample(float u_m, float v_m, float footprint_texels) const;
   /// Bilinear sample of one mip level (level clamped to the pyramid).
   float sampleLevel(float u_m, float v_m, int level) const;
+  /// Bilinear sample of level `level` (must exist) at precomputed texel indices (any int, wrapped) and
+  /// fractions: the renderer computes the coordinates in vectorized loops.
+  float fetch(int level, int x0, int y0, float fx, float fy) const;
 
   float texelsPerMeter() const { return texels_per_m_; }
   int levels() const { return static_cast<int>(levels_.size()); }
@@ -151,12 +154,23 @@ inline float SceneTexture::sampleLevel(float u_m, float v_m, int level) const {
   return (top + fy * (bot - top)) * (1.f / 255.f);
 }
 
+inline float SceneTexture::fetch(int level, int x0, int y0, float fx, float fy) const {
+  const Level& m = view_[level];
+  const int xa = x0 & m.wmask, xb = (x0 + 1) & m.wmask;
+  const uint8_t* r0 = m.data + m.step * static_cast<size_t>(y0 & m.hmask);
+  const uint8_t* r1 = m.data + m.step * static_cast<size_t>((y0 + 1) & m.hmask);
+  const float top = r0[xa] + fx * (static_cast<float>(r0[xb]) - r0[xa]);
+  const float bot = r1[xa] + fx * (static_cast<float>(r1[xb]) - r1[xa]);
+  return (top + fy * (bot - top)) * (1.f / 255.f);
+}
+
 inline float SceneTexture::sample(float u_m, float v_m, float footprint_texels) const {
   if (!(footprint_texels > 1.f)) return sampleLevel(u_m, v_m, 0);
   const float lod = std::min(detail::fastLog2(footprint_texels), max_lod_);
   const int l0 = static_cast<int>(lod);
-  // "Brilinear": blend two levels only for a fractional LOD in [0.3, 0.7] (remapped to [0, 1]),
-  // nearest level elsewhere; continuous in the LOD, half the texture reads of trilinear.
+  // "Brilinear": blend two levels only for a fractional LOD in [0.3, 0.7] (remapped to [0, 1]), the
+  // nearest level elsewhere; continuous in the LOD, fewer texture reads than trilinear. The renderer's
+  // span path computes the same level/weight/coordinates in vectorized form (Renderer::renderSpan).
   const float f = std::min(1.f, std::max(0.f, 2.5f * (lod - static_cast<float>(l0)) - 0.75f));
   if (f <= 0.f) return sampleLevel(u_m, v_m, l0);
   if (f >= 1.f) return sampleLevel(u_m, v_m, l0 + 1);
@@ -169,16 +183,20 @@ inline bool Scene::castRay(const Eigen::Vector3f& o, const Eigen::Vector3f& d, S
                            int n_subset) const {
   if (!d.allFinite() || !o.allFinite()) return false;
   if ((o.array() <= room_lo_.array()).any() || (o.array() >= room_hi_.array()).any()) return false;
-  const float ix = 1.f / d.x(), iy = 1.f / d.y(), iz = 1.f / d.z();
+  // Exactly-zero components (axis-parallel rays) become tiny ones (+-1e-20, no change otherwise): no 0 * inf
+  // below. Written without comparisons so that the renderer's span loop (same formula) vectorizes.
+  const float dx0 = d.x() + std::copysign(1e-20f, d.x()), dy0 = d.y() + std::copysign(1e-20f, d.y()),
+              dz0 = d.z() + std::copysign(1e-20f, d.z());
+  const float ix = 1.f / dx0, iy = 1.f / dy0, iz = 1.f / dz0;
   // Room exit: the nearest of the three faces the ray points to.
-  const float tx = ((d.x() > 0 ? room_hi_.x() : room_lo_.x()) - o.x()) * ix;
-  const float ty = ((d.y() > 0 ? room_hi_.y() : room_lo_.y()) - o.y()) * iy;
-  const float tz = ((d.z() > 0 ? room_hi_.z() : room_lo_.z()) - o.z()) * iz;
+  const float tx = ((dx0 > 0 ? room_hi_.x() : room_lo_.x()) - o.x()) * ix;
+  const float ty = ((dy0 > 0 ? room_hi_.y() : room_lo_.y()) - o.y()) * iy;
+  const float tz = ((dz0 > 0 ? room_hi_.z() : room_lo_.z()) - o.z()) * iz;
   float best = tx;
   int axis = 0;
   if (ty < best) best = ty, axis = 1;
   if (tz < best) best = tz, axis = 2;
-  int surface = axis * 2 + ((axis == 0 ? d.x() : axis == 1 ? d.y() : d.z()) > 0 ? 1 : 0);
+  int surface = axis * 2 + ((axis == 0 ? dx0 : axis == 1 ? dy0 : dz0) > 0 ? 1 : 0);
   // Boxes: slab test, entry face = axis of the largest near-slab distance.
   const int nb = box_subset ? n_subset : static_cast<int>(boxes_.size());
   for (int j = 0; j < nb; ++j) {
@@ -201,7 +219,7 @@ inline bool Scene::castRay(const Eigen::Vector3f& o, const Eigen::Vector3f& d, S
   hit->t = best;
   hit->point = o + best * d;
   hit->normal.setZero();
-  const float dir_axis = axis == 0 ? d.x() : axis == 1 ? d.y() : d.z();
+  const float dir_axis = axis == 0 ? dx0 : axis == 1 ? dy0 : dz0;
   const float n = dir_axis > 0 ? -1.f : 1.f;  // faces the ray origin
   hit->normal[axis] = n;
   const Eigen::Vector3f& p = hit->point;

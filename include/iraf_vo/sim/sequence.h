@@ -38,6 +38,7 @@ struct SimFrame {
   int64_t stamp_ns = 0;
   Eigen::Isometry3d T_W_C = Eigen::Isometry3d::Identity();
   cv::Mat image;  // CV_8UC1
+  cv::Mat depth;  // CV_32FC1 z-depth (m) when SimParams::write_depth, else empty
 };
 
 struct SimulateReport {
@@ -49,6 +50,8 @@ struct SimulateReport {
 
 /// Renders params.frames frames along the trajectory, applies the photometric events, writes the ASL
 /// folder to out_dir (skipped when out_dir is empty) and calls on_frame (optional) for every frame.
+/// With SimParams::write_depth also OUT/mav0/depth0/data.csv + data/<ns>.png (CV_16UC1, z-depth in mm,
+/// 0 = no hit) of the mid-exposure pose.
 bool simulateSequence(const Renderer& renderer, const TrajectoryParams& traj, const PhotometricParams& photometric,
                       const std::string& out_dir, const std::function<void(const SimFrame&)>& on_frame,
                       SimulateReport* report, std::string* error);
