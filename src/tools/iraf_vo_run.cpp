@@ -32,6 +32,7 @@
 #include <mutex>
 #include <sstream>
 #include <string>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <thread>
 #include <vector>
@@ -45,7 +46,7 @@ void usage(FILE* f) {
   std::fprintf(f,
                "usage: iraf_vo_run --dataset DIR_OR_BAG [--topic T] [--camera sensor.yaml] --out traj.txt\n"
                "                   [--mode iraf|baseline|enhance|adaptive|culling] [--gt GT] [--stats stats.json]\n"
-               "                   [--config params.yaml] [--first N] [--frames N] [--set section.key=value] [--quiet]\n"
+               "                   [--config params.yaml] [--first N] [--frames N] [--set section.key=value] [--frame-log F] [--quiet]\n"
                "  --dataset  ASL folder (DIR/mav0/cam0/data.csv) or a rosbag (.bag, needs --topic)\n"
                "  --camera   camera yaml (default: the ASL folder's mav0/cam0/sensor.yaml)\n"
                "  --mode     iraf = enhancement + adaptive threshold + culling (default); baseline = all off;\n"
@@ -53,6 +54,7 @@ void usage(FILE* f) {
                "  --gt       ground truth (TUM or EuRoC csv) -> Sim(3) ATE in the summary\n"
                "  --config   YAML with optional maps 'enhance:', 'features:', 'tracker:' (keys = parameter names)\n"
                "  --first/--frames  process frames [first, first + frames) only\n"
+               "  --frame-log per-frame CSV: index,stamp,state,keypoints,matches,inliers,keyframe,pnp,ms_track\n"
                "  --set      override one parameter, e.g. --set tracker.ba_window_size=12 (after --mode / --config)\n");
 }
 
@@ -88,19 +90,21 @@ struct FrontItem {
 };
 
 // Bounded single-producer / single-consumer queue.
+template <typename Item>
 class BoundedQueue {
  public:
   explicit BoundedQueue(size_t cap) : cap_(cap) {}
-  void push(FrontItem&& it) {
+  void push(Item&& it) {
     std::unique_lock<std::mutex> lk(m_);
     not_full_.wait(lk, [&] { return q_.size() < cap_ || closed_; });
     if (closed_) return;
     q_.push_back(std::move(it));
     not_empty_.notify_one();
   }
-  bool pop(FrontItem* it) {
+  bool pop(Item* it) {  // false once closed and empty
     std::unique_lock<std::mutex> lk(m_);
-    not_empty_.wait(lk, [&] { return !q_.empty(); });
+    not_empty_.wait(lk, [&] { return !q_.empty() || closed_; });
+    if (q_.empty()) return false;
     *it = std::move(q_.front());
     q_.pop_front();
     not_full_.notify_one();
@@ -110,15 +114,25 @@ class BoundedQueue {
     std::lock_guard<std::mutex> lk(m_);
     closed_ = true;
     not_full_.notify_all();
+    not_empty_.notify_all();
   }
 
  private:
   size_t cap_;
   bool closed_ = false;
-  std::deque<FrontItem> q_;
+  std::deque<Item> q_;
   std::mutex m_;
   std::condition_variable not_full_, not_empty_;
 };
+
+// Resident set size of this process in MiB (Linux /proc), -1 when unavailable.
+double rssMiB() {
+  std::ifstream f("/proc/self/status");
+  std::string line;
+  while (std::getline(f, line))
+    if (line.rfind("VmRSS:", 0) == 0) return std::atof(line.c_str() + 6) / 1024.0;
+  return -1.0;
+}
 
 bool isDirectory(const std::string& p) {
   struct stat st;
@@ -128,6 +142,7 @@ bool isDirectory(const std::string& p) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  std::string frame_log_path;
   std::string dataset, topic, camera_path, out, mode = "iraf", gt_path, stats_path, config_path;
   long first = 0, max_frames = -1;
   bool quiet = false;
@@ -162,6 +177,8 @@ int main(int argc, char** argv) {
       config_path = value();
     } else if (a == "--set") {
       sets.push_back(value());
+    } else if (a == "--frame-log") {
+      frame_log_path = value();
     } else if (a == "--quiet") {
       quiet = true;
     } else if (a == "--first" || a == "--frames") {
@@ -268,6 +285,11 @@ int main(int argc, char** argv) {
     }
 
   // ---- input ----
+  struct stat ds;
+  if (stat(dataset.c_str(), &ds) != 0) {
+    std::fprintf(stderr, "iraf_vo_run: --dataset %s: no such file or folder\n", dataset.c_str());
+    return 1;
+  }
   const bool is_bag = !isDirectory(dataset);
   iraf_vo::AslImageReader asl;
   iraf_vo::BagImageReader bag;
@@ -308,73 +330,105 @@ int main(int argc, char** argv) {
   const long last = max_frames >= 0 ? std::min<long>(total, first + max_frames) : static_cast<long>(total);
   const long n_run = std::max<long>(0, last - first);
 
-  // ---- front-end thread: read -> enhance -> features ----
-  BoundedQueue queue(4);
-  std::atomic<bool> stop_front{false};
-  std::thread front([&] {
-    iraf_vo::Enhancer enhancer;
-    iraf_vo::FeatureExtractor extractor;
+  // ---- reader thread (image decoding) -> front-end thread (enhance + features) -> tracking (this thread) ----
+  struct ReadItem {
+    long index = 0;
+    double stamp = 0;
+    cv::Mat gray;
+    double ms_read = 0;
+    bool end = false, error = false, fatal = false;
+    std::string message;
+  };
+  BoundedQueue<ReadItem> read_queue(4);
+  std::atomic<bool> stop_threads{false};  // set when tracking stops early (fatal input error)
+  BoundedQueue<FrontItem> queue(4);
+  std::thread reader([&] {
     long idx = 0;
     for (;;) {
-      if (stop_front) return;
-      FrontItem it;
-      auto t0 = Clock::now();
-      cv::Mat gray;
-      double stamp = 0;
+      if (stop_threads) return;
+      ReadItem it;
+      const auto t0 = Clock::now();
       bool have = false;
       if (!is_bag) {
-        if (idx < first) {
-          idx = first;
-        }
+        if (idx < first) idx = first;
         if (idx < last) {
           std::string e;
-          if (!asl.loadImage(static_cast<size_t>(idx), &gray, &e)) {
+          if (!asl.loadImage(static_cast<size_t>(idx), &it.gray, &e)) {
             it.error = true;
             it.message = e;
           }
-          stamp = asl.entries()[idx].stamp();
+          it.stamp = asl.entries()[idx].stamp();
           have = true;
         }
       } else {
         ros::Time t;
-        while (idx < first && bag.next(&t, &gray)) ++idx;
-        if (idx < last && bag.next(&t, &gray)) {
-          stamp = t.toSec();
+        while (idx < first && bag.next(&t, &it.gray)) ++idx;
+        if (idx < last && bag.next(&t, &it.gray)) {
+          it.stamp = t.toSec();
           have = true;
         }
       }
       if (!have) {
         it.end = true;
-        queue.push(std::move(it));
+        read_queue.push(std::move(it));
         return;
       }
-      if (!it.error && (gray.cols != cam->width() || gray.rows != cam->height())) {
+      if (!it.error && (it.gray.cols != cam->width() || it.gray.rows != cam->height())) {
         // Tracking with the wrong intrinsics would give silent garbage: stop with an error naming both files.
         it.error = it.fatal = true;
         it.message = (is_bag ? dataset + " (topic " + topic + ")" : asl.entries()[idx].path) + ": image " +
-                     std::to_string(gray.cols) + "x" + std::to_string(gray.rows) + " does not match the camera " +
+                     std::to_string(it.gray.cols) + "x" + std::to_string(it.gray.rows) + " does not match the camera " +
                      camera_path + " (" + std::to_string(cam->width()) + "x" + std::to_string(cam->height()) + ")";
       }
       it.index = idx++;
       it.ms_read = msSince(t0);
+      read_queue.push(std::move(it));
+    }
+  });
+  std::thread front([&] {
+    iraf_vo::Enhancer enhancer;
+    iraf_vo::FeatureExtractor extractor;
+    for (;;) {
+      ReadItem in;
+      if (!read_queue.pop(&in)) return;  // closed and drained (early stop)
+      FrontItem it;
+      if (in.end) {
+        it.end = true;
+        queue.push(std::move(it));
+        return;
+      }
+      it.index = in.index;
+      it.ms_read = in.ms_read;
+      it.error = in.error;
+      it.fatal = in.fatal;
+      it.message = in.message;
       if (!it.error) {
         try {
-          t0 = Clock::now();
-          const iraf_vo::EnhanceResult er = enhancer.enhance(gray, ep);
+          auto t0 = Clock::now();
+          const iraf_vo::EnhanceResult er = enhancer.enhance(in.gray, ep);
           it.ms_enhance = msSince(t0);
           t0 = Clock::now();
-          it.frame = extractor.extract(er.image, stamp, fp);
+          it.frame = extractor.extract(er.image, in.stamp, fp);
           it.ms_features = msSince(t0);
         } catch (const std::exception& e) {
           it.error = true;
           it.message = e.what();
         }
       }
-      it.frame.stamp = stamp;
+      it.frame.stamp = in.stamp;
       queue.push(std::move(it));
     }
   });
 
+  std::ofstream frame_log;
+  if (!frame_log_path.empty()) {
+    frame_log.open(frame_log_path);
+    if (!frame_log) {
+      std::fprintf(stderr, "iraf_vo_run: --frame-log %s: cannot write\n", frame_log_path.c_str());
+      return 1;
+    }
+    frame_log << "index,stamp,state,keypoints,matches,inliers,keyframe,pnp,ms_track\n";
+  }
   // ---- back-end: tracking ----
   iraf_vo::Tracker tracker(cam, tp);
   iraf_vo::Trajectory est;
@@ -383,6 +437,7 @@ int main(int argc, char** argv) {
   const auto t_start = Clock::now();
   long processed = 0, errors = 0;
   bool fatal = false;
+  std::vector<std::pair<long, double>> rss;  // (frames processed, MiB)
   iraf_vo::TrackingState last_state = iraf_vo::TrackingState::kNotInitialized;
   for (;;) {
     FrontItem it;
@@ -401,6 +456,10 @@ int main(int argc, char** argv) {
     }
     const iraf_vo::TrackResult r = tracker.track(it.frame);
     last_state = r.state;
+    if (frame_log)
+      frame_log << it.index << "," << std::fixed << it.frame.stamp << std::defaultfloat << "," << iraf_vo::toString(r.state)
+                << "," << it.frame.keypoints.size() << "," << r.matches << "," << r.inliers << "," << r.is_keyframe << ","
+                << r.used_pnp << "," << r.timing.ms_total << "\n";
     ms["read"].push_back(it.ms_read);
     ms["enhance"].push_back(it.ms_enhance);
     ms["features"].push_back(it.ms_features);
@@ -410,6 +469,7 @@ int main(int argc, char** argv) {
     ms["track_keyframe"].push_back(r.timing.ms_keyframe);
     if (r.timing.ms_init > 0) ms["track_init"].push_back(r.timing.ms_init);
     if (r.state == iraf_vo::TrackingState::kTracking) est.push_back(it.frame.stamp, r.T_w_c);
+    if (processed % 500 == 0) rss.emplace_back(processed, rssMiB());
     const double el = std::chrono::duration<double>(Clock::now() - t_start).count();
     if (tty) {
       const int width = 30;
@@ -423,9 +483,11 @@ int main(int argc, char** argv) {
                    processed / std::max(el, 1e-9), iraf_vo::toString(r.state));
     }
   }
-  stop_front = true;
+  stop_threads = true;
   queue.close();
+  read_queue.close();
   front.join();
+  reader.join();
   tracker.waitForMapping();
   if (fatal) return 1;
   if (processed > 0 && errors == processed) {
@@ -444,18 +506,29 @@ int main(int argc, char** argv) {
   const size_t n_points = tracker.mapPoints().size();
   const double tracked_pct = st.frames > 0 ? 100.0 * st.tracked / st.frames : 0.0;
   const double fps = processed / std::max(wall, 1e-9);
+  struct rusage ru;
+  getrusage(RUSAGE_SELF, &ru);
+  const double cpu_s = ru.ru_utime.tv_sec + ru.ru_stime.tv_sec + 1e-6 * (ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
+  const double cpu_ms_per_frame = 1000.0 * cpu_s / std::max<long>(1, processed);
   std::ostringstream summary;
   summary << "frames " << st.frames << ", tracked " << st.tracked << " (" << tracked_pct << " %), lost frames "
           << st.lost_frames << ", lost events " << st.lost_events << ", resets " << st.resets << ", keyframes "
           << st.keyframes << ", map points " << n_points << ", BA runs " << st.ba_runs << " (mean "
           << (st.ba_runs ? st.ba_ms_total / st.ba_runs : 0.0) << " ms)\n";
-  summary << "wall " << wall << " s, " << fps << " fps (front-end and tracking threads in parallel)\n";
+  summary << "wall " << wall << " s, " << fps << " fps (reader, front-end, tracking and mapping threads in parallel); CPU "
+          << cpu_s << " s = " << cpu_ms_per_frame << " ms/frame (all threads) -> <= " << 2000.0 / cpu_ms_per_frame
+          << " fps on 2 idle cores\n";
   summary << "per stage [ms] median / 95% / mean:\n";
   for (const auto& kv : ms) {
     const Percentiles p = percentiles(kv.second);
     char buf[160];
     std::snprintf(buf, sizeof(buf), "  %-15s %7.2f %7.2f %7.2f\n", kv.first.c_str(), p.median, p.p95, p.mean);
     summary << buf;
+  }
+  if (!rss.empty()) {
+    summary << "RSS [MiB] after frames:";
+    for (const auto& x : rss) summary << " " << x.first << ": " << x.second;
+    summary << "\n";
   }
   iraf_vo::EvalResult ev;
   bool have_ate = false;
@@ -482,7 +555,7 @@ int main(int argc, char** argv) {
        << ",\n  \"tracked\": " << st.tracked << ",\n  \"tracked_pct\": " << tracked_pct
        << ",\n  \"lost_frames\": " << st.lost_frames << ",\n  \"lost_events\": " << st.lost_events
        << ",\n  \"resets\": " << st.resets << ",\n  \"keyframes\": " << st.keyframes << ",\n  \"map_points\": "
-       << n_points << ",\n  \"read_errors\": " << errors << ",\n  \"fps\": " << fps << ",\n  \"ms\": {";
+       << n_points << ",\n  \"read_errors\": " << errors << ",\n  \"fps\": " << fps << ",\n  \"cpu_ms_per_frame\": " << cpu_ms_per_frame << ",\n  \"ms\": {";
     bool firstk = true;
     for (const auto& kv : ms) {
       const Percentiles p = percentiles(kv.second);
@@ -490,7 +563,9 @@ int main(int argc, char** argv) {
          << ", \"mean\": " << p.mean << "}";
       firstk = false;
     }
-    js << "\n  }";
+    js << "\n  },\n  \"rss_mib\": {";
+    for (size_t k = 0; k < rss.size(); ++k) js << (k ? ", " : "") << "\"" << rss[k].first << "\": " << rss[k].second;
+    js << "}";
     if (have_ate)
       js << ",\n  \"ate_rmse\": " << ev.ate.rmse << ",\n  \"ate_median\": " << ev.ate.median
          << ",\n  \"ate_scale\": " << ev.scale << ",\n  \"ate_matched\": " << ev.n_matched;

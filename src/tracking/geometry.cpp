@@ -692,7 +692,14 @@ bool bundleAdjust(const CameraModel& cam, std::vector<BAKeyframe>* kfs, std::vec
   if (n_res > 0) {
     sum.initial_rmse_px = reprojectionRmse(cam, *kfs, *pts, obs);
     ceres::Solver::Options so;
-    so.linear_solver_type = ceres::SPARSE_SCHUR;
+    so.linear_solver_type = options.dense_schur ? ceres::DENSE_SCHUR : ceres::SPARSE_SCHUR;
+    // Explicit Schur ordering (points eliminated first) saves Ceres' independent-set search.
+    auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+    for (size_t i = 0; i < pts->size(); ++i)
+      if (problem.HasParameterBlock(&points[3 * i])) ordering->AddElementToGroup(&points[3 * i], 0);
+    for (size_t k = 0; k < kfs->size(); ++k)
+      if (pose_added[k]) ordering->AddElementToGroup(&poses[7 * k], 1);
+    so.linear_solver_ordering = ordering;
     so.max_num_iterations = options.max_num_iterations;
     so.max_solver_time_in_seconds = options.max_solver_time_in_seconds;
     so.num_threads = std::max(1, options.num_threads);

@@ -99,6 +99,7 @@ struct Keyframe {
   std::vector<Eigen::Vector3d> bearings;
   std::vector<char> valid;
   std::vector<long> point_id;  // guarded by the map mutex
+  std::atomic<bool> triangulated{false};  // new points already created (by the mapping thread or a starving tracker)
 };
 
 using KfPtr = std::shared_ptr<Keyframe>;
@@ -195,6 +196,8 @@ std::string validate(const TrackerParams& p) {
   if (p.ba_max_num_iterations < 0) return bad("ba_max_num_iterations", "must be >= 0");
   if (!(p.ba_max_solver_time_in_seconds > 0)) return bad("ba_max_solver_time_in_seconds", "must be > 0");
   if (!(p.ba_huber_delta > 0)) return bad("ba_huber_delta", "must be > 0");
+  if (p.starving_inliers < 0) return bad("starving_inliers", "must be >= 0");
+  if (p.sync_mapping_busy_frames < 0) return bad("sync_mapping_busy_frames", "must be >= 0");
   if (p.lost_frames_before_reset < 0) return bad("lost_frames_before_reset", "must be >= 0");
   return "";
 }
@@ -226,6 +229,7 @@ struct Tracker::Impl {
   std::condition_variable q_cv, idle_cv;
   std::deque<long> queue;
   bool busy = false, stop = false;
+  int kfs_since_ba = 0;  // mapping thread only
   std::atomic<bool> abort_ba{false};
 
   // ---- stats ----
@@ -701,7 +705,7 @@ struct Tracker::Impl {
   // Keyframes
   // =========================================================================================
   bool mappingIdle() {
-    if (!p.mapping_thread) return true;
+    if (!p.mapping_thread) return frames_since_kf >= p.sync_mapping_busy_frames;
     std::lock_guard<std::mutex> lk(q_mutex);
     return queue.empty() && !busy;
   }
@@ -761,9 +765,15 @@ struct Tracker::Impl {
       return;
     }
     {
-      std::lock_guard<std::mutex> lk(q_mutex);
+      std::unique_lock<std::mutex> lk(q_mutex);
+      // Back-pressure: under CPU overload the mapping thread falls behind and the tracker would run on an
+      // unoptimized map (monocular scale drifts); wait until fewer than max_pending_keyframes are queued.
+      if (p.max_pending_keyframes > 0)
+        idle_cv.wait(lk, [this] {
+          return stop || static_cast<int>(queue.size()) + (busy ? 1 : 0) < p.max_pending_keyframes;
+        });
       queue.push_back(kf_id);
-      abort_ba = true;
+      if (p.ba_abort_on_keyframe) abort_ba = true;
     }
     q_cv.notify_one();
   }
@@ -785,7 +795,13 @@ struct Tracker::Impl {
         abort_ba = false;
         last_in_queue = queue.empty();
       }
-      processKeyframe(id, last_in_queue);
+      idle_cv.notify_all();  // a queue slot is free (back-pressure in enqueue)
+      // BA when no keyframe waits, and at least every ba_every_keyframes keyframes even when they keep
+      // arriving (otherwise BA starves under load and the monocular scale drifts).
+      ++kfs_since_ba;
+      const bool run_ba = last_in_queue || kfs_since_ba >= p.ba_every_keyframes;
+      if (run_ba) kfs_since_ba = 0;
+      processKeyframe(id, run_ba);
       {
         std::lock_guard<std::mutex> lk(q_mutex);
         busy = false;
@@ -841,6 +857,7 @@ struct Tracker::Impl {
       auto it = kfs.find(kf_id);
       if (it == kfs.end()) return;
       kf = it->second;
+      if (kf->triangulated.exchange(true)) return;  // done already (tracker or mapping thread)
       kf_pids = kf->point_id;
       T1 = kf->T_c_w;
       std::map<long, int> covis;
@@ -1010,9 +1027,22 @@ struct Tracker::Impl {
           obs_ref.emplace_back(o.first, o.second);
         }
       }
-      // Monocular gauge (6 dof + scale): at least two fixed keyframes; fix the oldest window keyframes if
-      // needed, keeping at least one keyframe free.
-      for (int w = nwin - 1; w >= 1 && nfixed < 2; --w) {
+      // Monocular gauge (6 dof + scale): at least two fixed keyframes, and their centres must span at least
+      // ba_min_fixed_span of the window's extent (oldest to newest centre); otherwise the scale is only weakly
+      // held and drifts while tracking and BA interleave. Fix the oldest window keyframes until both hold,
+      // keeping at least one keyframe free.
+      auto centre = [&](int k) { return Eigen::Vector3d(bk[k].T_c_w.inverse().translation()); };
+      const double wspan = (centre(0) - centre(nwin - 1)).norm();
+      auto fixedSpan = [&]() {
+        double m = 0.0;
+        for (size_t i = 0; i < bk.size(); ++i)
+          for (size_t j = i + 1; j < bk.size(); ++j)
+            if (bk[i].fixed && bk[j].fixed) m = std::max(m, (centre(i) - centre(j)).norm());
+        return m;
+      };
+      for (int w = nwin - 1; w >= 1; --w) {
+        if (bk[w].fixed) continue;
+        if (nfixed >= 2 && fixedSpan() >= p.ba_min_fixed_span * wspan) break;
         bk[w].fixed = true;
         ++nfixed;
       }
@@ -1071,10 +1101,49 @@ struct Tracker::Impl {
     }
   }
 
+  // ORB-SLAM's distinctive descriptor: of all observations of a point, the one with the least median Hamming
+  // distance to the others. Updated for the points seen by a new keyframe.
+  void updateDescriptors(long kf_id) {
+    std::lock_guard<std::mutex> lk(map_mutex);
+    auto k = kfs.find(kf_id);
+    if (k == kfs.end()) return;
+    std::vector<const uint8_t*> d;
+    std::vector<int> dist;
+    for (long pid : k->second->point_id) {
+      if (pid < 0) continue;
+      auto pt = pts.find(pid);
+      if (pt == pts.end() || pt->second->obs.size() < 3) continue;
+      d.clear();
+      for (const auto& o : pt->second->obs) {
+        auto ko = kfs.find(o.first);
+        if (ko != kfs.end()) d.push_back(ko->second->desc.ptr<uint8_t>(o.second));
+      }
+      const size_t n = d.size();
+      if (n < 3) continue;
+      dist.assign(n * n, 0);
+      for (size_t i = 0; i < n; ++i)
+        for (size_t j = i + 1; j < n; ++j) dist[i * n + j] = dist[j * n + i] = hamming(d[i], d[j]);
+      int best = 1 << 30;
+      size_t best_i = 0;
+      std::vector<int> row(n);
+      for (size_t i = 0; i < n; ++i) {
+        std::copy(dist.begin() + i * n, dist.begin() + (i + 1) * n, row.begin());
+        std::nth_element(row.begin(), row.begin() + n / 2, row.end());
+        if (row[n / 2] < best) {
+          best = row[n / 2];
+          best_i = i;
+        }
+      }
+      std::memcpy(pt->second->desc.data(), d[best_i], 32);
+    }
+  }
+
   void processKeyframe(long kf_id, bool run_ba) {
     cullRecentPoints(kf_id);
+    updateDescriptors(kf_id);
     triangulateNew(kf_id);
-    if (run_ba && !(p.mapping_thread && abort_ba.load())) localBundleAdjustment();
+
+    if (run_ba && !(p.mapping_thread && p.ba_abort_on_keyframe && abort_ba.load())) localBundleAdjustment();
     dropOldKeyframes();
   }
 
@@ -1196,6 +1265,9 @@ struct Tracker::Impl {
       frames_since_kf = 0;
       enqueue(last_kf_id);
       kf = true;
+      // Map starvation: triangulate this keyframe's new points right here instead of waiting for the mapping
+      // thread (never waits for BA; the mapping thread skips the triangulation of this keyframe).
+      if (p.mapping_thread && res.inliers < p.starving_inliers) triangulateNew(last_kf_id);
     }
     res.timing.ms_keyframe = msSince(t0);
     onTracked(cur, &res, kf);

@@ -65,6 +65,8 @@ const std::map<std::string, Setter>& setters() {
     IRAF_INT(min_frames_between_keyframes)
     IRAF_INT(max_frames_between_keyframes)
     IRAF_BOOL(mapping_thread)
+    IRAF_INT(starving_inliers)
+    IRAF_INT(sync_mapping_busy_frames)
     IRAF_INT(num_triangulation_neighbors)
     IRAF_DBL(min_triangulation_parallax_deg)
     IRAF_DBL(min_found_ratio)
@@ -73,6 +75,10 @@ const std::map<std::string, Setter>& setters() {
     IRAF_INT(ba_max_num_iterations)
     IRAF_DBL(ba_max_solver_time_in_seconds)
     IRAF_DBL(ba_huber_delta)
+    IRAF_BOOL(ba_abort_on_keyframe)
+    IRAF_DBL(ba_min_fixed_span)
+    IRAF_INT(ba_every_keyframes)
+    IRAF_INT(max_pending_keyframes)
     IRAF_INT(lost_frames_before_reset)
 #undef IRAF_INT
 #undef IRAF_DBL

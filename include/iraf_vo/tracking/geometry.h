@@ -108,6 +108,7 @@ struct BAOptions {
   double chi2_threshold = 5.991;       // for the outlier flags of the summary
   const std::atomic<bool>* abort = nullptr;  // checked between iterations (new keyframe waiting)
   int num_threads = 1;
+  bool dense_schur = true;  // DENSE_SCHUR (fast for <= ~30 poses) or SPARSE_SCHUR
 };
 struct BASummary {
   bool ran = false;

@@ -22,19 +22,23 @@
 //     (a) inliers < keyframe_min_tracked                                   (losing the map: insert now)
 //     (b) inliers < keyframe_tracked_ratio * (points of the reference keyframe seen by >= 2 keyframes)
 //         (0.9 as ORB-SLAM mono) AND (mapping thread idle OR frames since last keyframe >= max_frames_between_keyframes)
+//         (mapping_thread = false: "idle" = frames since last keyframe >= sync_mapping_busy_frames)
 //     (c) frames since the last keyframe >= max_frames_between_keyframes AND inliers < 0.98 * reference
 //   The keyframe gets the frame's inlier matches as observations.
 //
-// Local mapping (own thread unless mapping_thread = false; tracking never waits on it except on reset):
+// Local mapping (own thread unless mapping_thread = false; tracking never waits for it except on reset; when
+//   the map is starving (keyframe with inliers < starving_inliers) the tracking thread triangulates that keyframe
+//   itself so that new points do not wait behind a BA):
 //   for each new keyframe: cull recent points (found/visible < min_found_ratio, or <= 2 observations two
 //   keyframes after creation), triangulate new points between the keyframe and its num_triangulation_neighbors
 //   best covisible keyframes (unmatched keypoints, Hamming <= match_threshold_low, epipolar check on bearings,
 //   cheirality, reprojection chi2, min_triangulation_parallax_deg), then sliding-window BA when no other
-//   keyframe is waiting.
+//   keyframe is waiting or ba_every_keyframes keyframes were processed since the last BA.
 // Sliding-window BA (bundleAdjust): the newest ba_window_size keyframes and the points they observe are free;
 //   every other keyframe still in the map that observes those points is held fixed (gauge). If fewer than
-//   two keyframes end up fixed (start of a map), the oldest window keyframes are fixed until two are:
-//   monocular gauge = 6 dof pose + 1 dof scale. Huber loss on sigma-normalized pixel residuals, bounded by
+//   two keyframes end up fixed (start of a map), or the fixed centres span less than ba_min_fixed_span of the
+//   window's extent (scale only weakly held: it drifted towards 0 in fast-motion runs), the oldest window
+//   keyframes are fixed until both hold: monocular gauge = 6 dof pose + 1 dof scale. Huber loss on sigma-normalized pixel residuals, bounded by
 //   ba_max_num_iterations / ba_max_solver_time_in_seconds, aborted when a new keyframe arrives; results are
 //   merged under the map mutex; observations failing chi2 afterwards are removed.
 // Bounded memory: the map keeps at most max_map_keyframes keyframes (>= ba_window_size); the oldest
@@ -99,6 +103,10 @@ struct TrackerParams {
   int max_frames_between_keyframes = 20;
   // ---- local mapping ----
   bool mapping_thread = true;           // false: mapping runs synchronously inside track() (deterministic)
+  int starving_inliers = 60;            // keyframe inserted with fewer inliers: track() triangulates its new points
+                                        // itself (the mapping thread may be busy); never waits for BA
+  int sync_mapping_busy_frames = 3;     // mapping_thread = false: the keyframe policy treats mapping as busy for
+                                        // this many frames after a keyframe (emulates the threaded keyframe rate)
   int num_triangulation_neighbors = 6;
   double min_triangulation_parallax_deg = 1.0;
   double min_found_ratio = 0.25;
@@ -108,6 +116,13 @@ struct TrackerParams {
   int ba_max_num_iterations = 10;
   double ba_max_solver_time_in_seconds = 0.1;
   double ba_huber_delta = 2.447;        // sqrt(5.991) on the sigma-normalized residual
+  int max_pending_keyframes = 2;        // keyframe queue bound: inserting waits while this many are queued
+                                        // (only under CPU overload; 0 = unbounded)
+  int ba_every_keyframes = 2;           // BA at least every this many keyframes even if more are queued
+  double ba_min_fixed_span = 0.3;       // gauge: fixed keyframe centres must span >= this fraction of the window
+  bool ba_abort_on_keyframe = false;    // true: a queued keyframe aborts a running BA (ORB-SLAM); false: BA runs
+                                        // to its iteration / time budget (keyframes queued meanwhile are
+                                        // triangulated afterwards, BA once for the batch)
   // ---- loss ----
   int lost_frames_before_reset = 2;
 };
