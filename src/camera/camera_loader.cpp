@@ -219,6 +219,13 @@ CameraModelPtr makeCamera(const std::string& model, int width, int height, const
       setError(error, std::string(name) + " = " + num(p[i]) + " must be > 0");
       return nullptr;
     }
+    // Magnitude bounds (far beyond any real camera): fy = 4.6e298 loaded fine and project() then returned
+    // "success" with inf pixels (found by fuzz_camera_yaml).
+    const double limit = i < 4 ? 1e7 : 1e6;
+    if (std::abs(p[i]) > limit) {
+      setError(error, std::string(name) + " = " + num(p[i]) + " is out of range (|value| <= " + num(limit) + ")");
+      return nullptr;
+    }
   }
   if (!T_BS.allFinite()) {
     setError(error, "T_BS is not finite");

@@ -472,3 +472,18 @@ TEST(BadParamsYaml, NonScalarKeyIsAnErrorNotAnException) {
   EXPECT_NO_THROW(ok = loadFeatureParams(node, &fp, &err));
   EXPECT_FALSE(ok);
 }
+
+// Found by fuzz_camera_yaml: intrinsics [916.654, 457E296, ...] (fy = 4.57e298) loaded and project() returned
+// true with non-finite pixels. makeCamera/loadCamera now bound the magnitudes (|f|, |c| <= 1e7 px, |k| <= 1e6).
+TEST(BadCamera, AbsurdMagnitudesAreRejected) {
+  std::string text = kEurocYaml;
+  text.replace(text.find("457.296"), 7, "457E296");
+  std::string err;
+  EXPECT_FALSE(loadCameraFromString(text, "absurd.yaml", &err));
+  EXPECT_NE(err.find("fy"), std::string::npos) << err;
+  EXPECT_NE(err.find("absurd.yaml"), std::string::npos) << err;
+  EXPECT_FALSE(makeCamera("kannala-brandt", 512, 512, {190, 190, 256, 256, 1e300, 0, 0, 0}, &err));
+  EXPECT_NE(err.find("k1"), std::string::npos) << err;
+  // A large but real focal length (telephoto, 20000 px) is still fine.
+  EXPECT_TRUE(makeCamera("pinhole-radtan", 752, 480, {20000, 20000, 376, 240, 0, 0, 0, 0}, &err)) << err;
+}
