@@ -43,7 +43,19 @@ if [ -x "$BIN/iraf_vo_run" ]; then
     [ -n "$GT" ] && args+=(--gt "$GT")
     "$BIN/iraf_vo_run" "${args[@]}" | tee "$OUT/summary_$mode.txt"
   done
-  echo "== trajectories: $OUT/traj_iraf.txt $OUT/traj_baseline.txt (TUM format)"
+  echo
+  echo "== side by side ($DATASET)"
+  /usr/bin/python3 - "$OUT/stats_iraf.json" "$OUT/stats_baseline.json" <<'PY'
+import json, sys
+rows = [json.load(open(f)) for f in sys.argv[1:]]
+print("%-9s %9s %6s %12s %8s %8s" % ("mode", "tracked%", "lost", "ATE rmse[m]", "fps", "CPU fps"))
+for r in rows:
+    ate = "%.4f" % r["ate_rmse"] if "ate_rmse" in r else "n/a"
+    print("%-9s %9.1f %6d %12s %8.1f %8.1f" % (r["mode"], r["tracked_pct"], r["lost_events"], ate, r["fps"],
+                                               2000.0 / r["cpu_ms_per_frame"]))
+print("(fps: wall clock here; CPU fps: what the 2 cores would sustain, 2000 / CPU ms per frame)")
+PY
+  echo "== trajectories: $OUT/traj_iraf.txt $OUT/traj_baseline.txt (TUM format, evo / iraf_vo_eval readable)"
 else
   echo "== enhancing $DATASET"
   "$BIN/iraf_vo_enhance" "$DATASET" "$OUT/enhanced"

@@ -30,7 +30,7 @@ PACKAGES=(
   build-essential cmake pkg-config
   ros-base-dev libimage-transport-dev libcv-bridge-dev libtf2-ros-dev libtf2-geometry-msgs-dev
   python3-dynamic-reconfigure python3-roslib python3-rostest python3-rosbag python3-roslaunch rosbash
-  python3-rosnode python3-rostopic python3-rosservice python3-rosparam
+  python3-rosnode python3-rostopic python3-rosservice python3-rosparam python3-std-srvs libstd-srvs-dev
   python3-sensor-msgs python3-geometry-msgs python3-nav-msgs python3-tf2-msgs
   libceres-dev libeigen3-dev libopencv-dev libyaml-cpp-dev libgtest-dev
   python3-numpy python3-matplotlib python3-yaml python3-opencv
