@@ -74,8 +74,9 @@ std::vector<double> toMatrix(const YAML::Node& n, const std::string& key, int ro
   if (rows > 0 && r != rows) fail(key + ".rows", "expected " + std::to_string(rows) + ", got " + std::to_string(r));
   if (cols > 0 && c != cols) fail(key + ".cols", "expected " + std::to_string(cols) + ", got " + std::to_string(c));
   std::vector<double> d = toVector(require(n, "data"), key + ".data");
-  if (static_cast<int>(d.size()) != r * c)
-    fail(key + ".data", "expected rows*cols = " + std::to_string(r * c) + " values, got " + std::to_string(d.size()));
+  const long long rc = static_cast<long long>(r) * c;  // 64-bit: rows, cols up to 1e9 each
+  if (static_cast<long long>(d.size()) != rc)
+    fail(key + ".data", "expected rows*cols = " + std::to_string(rc) + " values, got " + std::to_string(d.size()));
   return d;
 }
 
@@ -107,7 +108,8 @@ CameraModelPtr parseKalibr(const YAML::Node& root, const std::string& prefix, st
   const std::vector<double> res = toVector(require(root, "resolution"), prefix + "resolution");
   if (res.size() != 2) fail(prefix + "resolution", "expected 2 values [width, height], got " + std::to_string(res.size()));
   for (double r : res)
-    if (!std::isfinite(r) || r != std::floor(r)) fail(prefix + "resolution", "width/height must be integers");
+    if (!std::isfinite(r) || r != std::floor(r) || std::abs(r) > 1e9)  // int cast below (fuzz_camera_yaml: 5.7e19)
+      fail(prefix + "resolution", "width/height must be integers (|value| <= 1e9)");
   checkResolution(static_cast<int>(res[0]), static_cast<int>(res[1]), prefix + "resolution");
 
   std::string dm = root["distortion_model"] ? root["distortion_model"].as<std::string>("") : "none";
@@ -215,6 +217,13 @@ CameraModelPtr makeCamera(const std::string& model, int width, int height, const
     }
     if (i < 2 && !(p[i] > 0.0)) {
       setError(error, std::string(name) + " = " + num(p[i]) + " must be > 0");
+      return nullptr;
+    }
+    // Magnitude bounds (far beyond any real camera): fy = 4.6e298 loaded fine and project() then returned
+    // "success" with inf pixels (found by fuzz_camera_yaml).
+    const double limit = i < 4 ? 1e7 : 1e6;
+    if (std::abs(p[i]) > limit) {
+      setError(error, std::string(name) + " = " + num(p[i]) + " is out of range (|value| <= " + num(limit) + ")");
       return nullptr;
     }
   }

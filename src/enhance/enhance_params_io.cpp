@@ -79,7 +79,7 @@ bool loadEnhanceParams(const YAML::Node& node, EnhanceParams* p, std::string* er
     return false;
   }
   for (const auto& kv : node) {
-    const std::string key = kv.first.as<std::string>();
+    const std::string key = kv.first.as<std::string>("");  // fallback: a non-scalar key (e.g. "? ? 4") threw
     if (!kv.second.IsScalar()) {
       *error = "enhance parameter '" + key + "' must be a scalar";
       return false;

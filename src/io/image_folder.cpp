@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
@@ -133,12 +134,17 @@ bool AslImageReader::open(const std::string& dir_in, std::string* error, const s
     const std::string ts = trim(t.substr(0, comma));
     const std::string name = trim(t.substr(comma + 1));
     bool digits = !ts.empty() && ts.size() <= 19 && std::all_of(ts.begin(), ts.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
+    int64_t stamp_ns = 0;  // from_chars: a 19-digit value above INT64_MAX is malformed (std::stoll threw)
+    if (digits) {
+      const auto res = std::from_chars(ts.data(), ts.data() + ts.size(), stamp_ns);
+      digits = res.ec == std::errc() && res.ptr == ts.data() + ts.size();
+    }
     if (!digits || name.empty() || name.find(',') != std::string::npos) {
       warnings_.push_back(where + "malformed row '" + t + "' (expected 'timestamp_ns,filename'), skipped");
       continue;
     }
     ImageEntry e;
-    e.stamp_ns = std::stoll(ts);
+    e.stamp_ns = stamp_ns;
     e.path = cam_dir_ + "/data/" + name;
     if (!isFile(e.path)) {
       warnings_.push_back(where + "image file missing: " + e.path + ", skipped");

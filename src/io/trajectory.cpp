@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -57,7 +58,9 @@ bool toDouble(const std::string& s, double* v) {
 bool toStamp(const std::string& s, double* t, bool force_ns) {
   const bool integer = !s.empty() && std::all_of(s.begin(), s.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
   if (integer && s.size() <= 19) {
-    const long long v = std::stoll(s);
+    long long v = 0;  // from_chars: a 19-digit value above INT64_MAX is malformed (std::stoll threw)
+    const auto res = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (res.ec != std::errc() || res.ptr != s.data() + s.size()) return false;
     if (force_ns || v > 1000000000000LL) {
       *t = static_cast<double>(v / 1000000000LL) + static_cast<double>(v % 1000000000LL) * 1e-9;
       return true;

@@ -4,6 +4,7 @@
 // Offline monocular VO (no roscore): front-end (enhance + features) and back-end (tracking; BA on its own thread)
 // run on separate threads connected by a bounded queue. Writes the TUM trajectory of every tracked frame and a
 // summary (frames, tracked %, lost events, map points, per-stage median / 95 % ms, ATE when --gt).
+#include <atomic>
 #include <iraf_vo/camera/camera_loader.h>
 #include <iraf_vo/enhance/enhance_params_io.h>
 #include <iraf_vo/enhance/enhancer.h>
@@ -84,6 +85,7 @@ struct FrontItem {
   double ms_read = 0, ms_enhance = 0, ms_features = 0;
   bool end = false;
   bool error = false;
+  bool fatal = false;  // stops the run with a non-zero exit (e.g. image size != camera size)
   std::string message;
 };
 
@@ -99,9 +101,10 @@ class BoundedQueue {
     q_.push_back(std::move(it));
     not_empty_.notify_one();
   }
-  bool pop(Item* it) {
+  bool pop(Item* it) {  // false once closed and empty
     std::unique_lock<std::mutex> lk(m_);
-    not_empty_.wait(lk, [&] { return !q_.empty(); });
+    not_empty_.wait(lk, [&] { return !q_.empty() || closed_; });
+    if (q_.empty()) return false;
     *it = std::move(q_.front());
     q_.pop_front();
     not_full_.notify_one();
@@ -111,6 +114,7 @@ class BoundedQueue {
     std::lock_guard<std::mutex> lk(m_);
     closed_ = true;
     not_full_.notify_all();
+    not_empty_.notify_all();
   }
 
  private:
@@ -332,14 +336,16 @@ int main(int argc, char** argv) {
     double stamp = 0;
     cv::Mat gray;
     double ms_read = 0;
-    bool end = false, error = false;
+    bool end = false, error = false, fatal = false;
     std::string message;
   };
   BoundedQueue<ReadItem> read_queue(4);
+  std::atomic<bool> stop_threads{false};  // set when tracking stops early (fatal input error)
   BoundedQueue<FrontItem> queue(4);
   std::thread reader([&] {
     long idx = 0;
     for (;;) {
+      if (stop_threads) return;
       ReadItem it;
       const auto t0 = Clock::now();
       bool have = false;
@@ -367,6 +373,13 @@ int main(int argc, char** argv) {
         read_queue.push(std::move(it));
         return;
       }
+      if (!it.error && (it.gray.cols != cam->width() || it.gray.rows != cam->height())) {
+        // Tracking with the wrong intrinsics would give silent garbage: stop with an error naming both files.
+        it.error = it.fatal = true;
+        it.message = (is_bag ? dataset + " (topic " + topic + ")" : asl.entries()[idx].path) + ": image " +
+                     std::to_string(it.gray.cols) + "x" + std::to_string(it.gray.rows) + " does not match the camera " +
+                     camera_path + " (" + std::to_string(cam->width()) + "x" + std::to_string(cam->height()) + ")";
+      }
       it.index = idx++;
       it.ms_read = msSince(t0);
       read_queue.push(std::move(it));
@@ -377,7 +390,7 @@ int main(int argc, char** argv) {
     iraf_vo::FeatureExtractor extractor;
     for (;;) {
       ReadItem in;
-      read_queue.pop(&in);
+      if (!read_queue.pop(&in)) return;  // closed and drained (early stop)
       FrontItem it;
       if (in.end) {
         it.end = true;
@@ -387,6 +400,7 @@ int main(int argc, char** argv) {
       it.index = in.index;
       it.ms_read = in.ms_read;
       it.error = in.error;
+      it.fatal = in.fatal;
       it.message = in.message;
       if (!it.error) {
         try {
@@ -422,6 +436,7 @@ int main(int argc, char** argv) {
   const bool tty = isatty(fileno(stderr)) && !quiet;
   const auto t_start = Clock::now();
   long processed = 0, errors = 0;
+  bool fatal = false;
   std::vector<std::pair<long, double>> rss;  // (frames processed, MiB)
   iraf_vo::TrackingState last_state = iraf_vo::TrackingState::kNotInitialized;
   for (;;) {
@@ -429,6 +444,11 @@ int main(int argc, char** argv) {
     queue.pop(&it);
     if (it.end) break;
     ++processed;
+    if (it.fatal) {
+      std::fprintf(stderr, "\niraf_vo_run: %s\n", it.message.c_str());
+      fatal = true;
+      break;
+    }
     if (it.error) {
       ++errors;
       std::fprintf(stderr, "\niraf_vo_run: frame %ld skipped: %s\n", it.index, it.message.c_str());
@@ -463,11 +483,17 @@ int main(int argc, char** argv) {
                    processed / std::max(el, 1e-9), iraf_vo::toString(r.state));
     }
   }
+  stop_threads = true;
   queue.close();
   read_queue.close();
   front.join();
   reader.join();
   tracker.waitForMapping();
+  if (fatal) return 1;
+  if (processed > 0 && errors == processed) {
+    std::fprintf(stderr, "iraf_vo_run: --dataset %s: none of the %ld frames could be read\n", dataset.c_str(), processed);
+    return 1;
+  }
   const double wall = std::chrono::duration<double>(Clock::now() - t_start).count();
   if (tty) std::fprintf(stderr, "\n");
   (void)last_state;

@@ -153,6 +153,17 @@ double octaveSigma(double scale_factor, int octave) { return std::pow(scale_fact
 std::string validate(const TrackerParams& p) {
   auto bad = [](const std::string& k, const std::string& why) { return "TrackerParams." + k + ": " + why; };
   if (!(p.scale_factor > 1.0 && p.scale_factor < 3.0)) return bad("scale_factor", "must be in (1, 3)");
+  // Fields bounded below only: +inf passed and reached int casts (e.g. search radius / cell -> grid index).
+  for (const auto& kv : {std::make_pair("init_threshold_px", p.init_threshold_px),
+                         std::make_pair("init_min_parallax_deg", p.init_min_parallax_deg),
+                         std::make_pair("search_radius_px", p.search_radius_px),
+                         std::make_pair("search_radius_wide_px", p.search_radius_wide_px),
+                         std::make_pair("search_radius_refine_px", p.search_radius_refine_px),
+                         std::make_pair("pnp_threshold_px", p.pnp_threshold_px),
+                         std::make_pair("min_triangulation_parallax_deg", p.min_triangulation_parallax_deg),
+                         std::make_pair("ba_max_solver_time_in_seconds", p.ba_max_solver_time_in_seconds),
+                         std::make_pair("ba_huber_delta", p.ba_huber_delta)})
+    if (!std::isfinite(kv.second)) return bad(kv.first, "must be finite");
   if (p.init_min_features < 8) return bad("init_min_features", "must be >= 8");
   if (p.init_min_matches < 8) return bad("init_min_matches", "must be >= 8");
   if (p.init_max_frames < 1) return bad("init_max_frames", "must be >= 1");

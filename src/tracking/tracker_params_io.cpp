@@ -117,7 +117,7 @@ bool loadTrackerParams(const YAML::Node& node, TrackerParams* p, std::string* er
   }
   TrackerParams tmp = *p;
   for (const auto& kv : node) {
-    const std::string key = kv.first.as<std::string>();
+    const std::string key = kv.first.as<std::string>("");  // fallback: a non-scalar key (e.g. "? ? 4") threw
     if (!kv.second.IsScalar()) {
       if (error) *error = "tracker parameter '" + key + "': expected a scalar value";
       return false;

@@ -1,0 +1,48 @@
+// libFuzzer target: bytes -> YAML -> loadEnhanceParams / loadFeatureParams / loadTrackerParams (the params
+// files of iraf_vo_enhance / iraf_vo_run). A load that succeeds must give params that validate(); a load that
+// fails must say why. Never throw (apart from YAML::Load's own parse errors, which callers catch) or crash.
+// Built and run by scripts/fuzz.sh.
+#include <yaml-cpp/yaml.h>
+
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include "iraf_vo/enhance/enhance_params_io.h"
+#include "iraf_vo/features/feature_params.h"
+#include "iraf_vo/tracking/tracker_params_io.h"
+
+#define FUZZ_CHECK(cond)                                                                   \
+  do {                                                                                     \
+    if (!(cond)) {                                                                         \
+      std::fprintf(stderr, "FUZZ_CHECK failed: %s (%s:%d)\n", #cond, __FILE__, __LINE__); \
+      std::abort();                                                                        \
+    }                                                                                      \
+  } while (0)
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  if (size < 1) return 0;
+  const int which = data[0] % 3;
+  YAML::Node node;
+  try {
+    node = YAML::Load(std::string(reinterpret_cast<const char*>(data + 1), size - 1));
+  } catch (const YAML::Exception&) {
+    return 0;  // not YAML: the callers report the parse error
+  }
+  std::string err;
+  if (which == 0) {
+    iraf_vo::EnhanceParams p;
+    if (iraf_vo::loadEnhanceParams(node, &p, &err)) FUZZ_CHECK(iraf_vo::validate(p).empty());
+    else FUZZ_CHECK(!err.empty());
+  } else if (which == 1) {
+    iraf_vo::FeatureParams p;
+    if (iraf_vo::loadFeatureParams(node, &p, &err)) FUZZ_CHECK(iraf_vo::validate(p).empty());
+    else FUZZ_CHECK(!err.empty());
+  } else {
+    iraf_vo::TrackerParams p;
+    if (iraf_vo::loadTrackerParams(node, &p, &err)) FUZZ_CHECK(iraf_vo::validate(p).empty());
+    else FUZZ_CHECK(!err.empty());
+  }
+  return 0;
+}
