@@ -13,13 +13,7 @@
 
 #include "iraf_vo/io/image_folder.h"
 
-#define FUZZ_CHECK(cond)                                                                   \
-  do {                                                                                     \
-    if (!(cond)) {                                                                         \
-      std::fprintf(stderr, "FUZZ_CHECK failed: %s (%s:%d)\n", #cond, __FILE__, __LINE__); \
-      std::abort();                                                                        \
-    }                                                                                      \
-  } while (0)
+#include "fuzz_check.h"
 
 namespace {
 // DIR/mav0/cam0/{data.csv, data/{1.png, 2.png, a b.png}} created once per process.

@@ -16,13 +16,7 @@
 
 namespace {
 
-#define FUZZ_CHECK(cond)                                                     \
-  do {                                                                       \
-    if (!(cond)) {                                                           \
-      std::fprintf(stderr, "FUZZ_CHECK failed: %s (%s:%d)\n", #cond, __FILE__, __LINE__); \
-      std::abort();                                                          \
-    }                                                                        \
-  } while (0)
+#include "fuzz_check.h"
 
 // Mostly plausible values, sometimes anything (NaN, inf, negative, huge). Each field keeps its default with
 // probability 2/3, so valid parameter sets (which reach the deep code) stay frequent.

@@ -14,13 +14,7 @@
 
 #include "iraf_vo/io/trajectory.h"
 
-#define FUZZ_CHECK(cond)                                                                   \
-  do {                                                                                     \
-    if (!(cond)) {                                                                         \
-      std::fprintf(stderr, "FUZZ_CHECK failed: %s (%s:%d)\n", #cond, __FILE__, __LINE__); \
-      std::abort();                                                                        \
-    }                                                                                      \
-  } while (0)
+#include "fuzz_check.h"
 
 namespace {
 const std::string& tempPath() {

@@ -15,15 +15,7 @@
 
 using namespace iraf_vo;
 
-/// Per-process temp prefix so parallel runs (ctest -j, plain + sanitizer builds) never share files.
-inline std::string tmpRoot() {
-  return (testing::TempDir().empty() ? std::string("/tmp/") : testing::TempDir()) + "iraf_vo_" +
-         std::to_string(::getpid()) + "_";
-}
-struct TmpCleanup : testing::Environment {
-  void TearDown() override { std::system(("rm -rf " + tmpRoot() + "*").c_str()); }
-};
-const testing::Environment* const kTmpCleanup = testing::AddGlobalTestEnvironment(new TmpCleanup);
+#include "common/tmp_dir.h"
 
 namespace {
 

@@ -25,14 +25,7 @@ namespace {
 
 /// Per-process temp prefix so parallel runs (ctest -j, plain + sanitizer builds) never share files;
 /// removed at exit (same convention as the other test binaries).
-inline std::string tmpRoot() {
-  return (testing::TempDir().empty() ? std::string("/tmp/") : testing::TempDir()) + "iraf_vo_" +
-         std::to_string(::getpid()) + "_";
-}
-struct TmpCleanup : testing::Environment {
-  void TearDown() override { std::system(("rm -rf " + tmpRoot() + "*").c_str()); }
-};
-const testing::Environment* const kTmpCleanup = testing::AddGlobalTestEnvironment(new TmpCleanup);
+#include "common/tmp_dir.h"
 
 std::string freshDir(const std::string& name) {
   const std::string d = tmpRoot() + "sim_" + name;
