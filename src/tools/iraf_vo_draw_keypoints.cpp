@@ -195,7 +195,7 @@ int main(int argc, char** argv) {
   drawLabel(&left, buf, 0);
   std::snprintf(buf, sizeof(buf), "mean intensity %.0f", cv::mean(gray)[0]);
   drawLabel(&left, buf, 1);
-  std::snprintf(buf, sizeof(buf), "IRAF: enhanced, adaptive F_t^g %.1f: %zu kept, %d culled", iraf.stats.global_threshold,
+  std::snprintf(buf, sizeof(buf), "IRAF: enhanced, adaptive threshold %.1f: %zu kept, %d culled", iraf.stats.global_threshold,
                 iraf.keypoints.size(), iraf.stats.culled);
   drawLabel(&right, buf, 0);
   std::snprintf(buf, sizeof(buf), "mean intensity %.0f (was %.0f)", cv::mean(er.image)[0], er.mu);
