@@ -10,13 +10,14 @@
 # Sequences (default set, ~10 min on the 2-core development machine):
 #   sim_<preset>   iraf_vo_simulate presets clean, dark, flicker, mixed, overexposed (--sim-frames, default 300)
 #   euroc_*        ../shared/data/euroc_mh01_600 beside the checkout (if present), frames 0-305 (the moving part):
-#                  clean and degraded with iraf_vo_degrade profiles dark and mixed (+ flicker, overexposed with --full)
+#                  clean and degraded with iraf_vo_degrade profiles dark and mixed (+ flicker, overexposed with --full;
+#                  the profiles' events span all 600 frames, so e.g. flicker starts at frame 300)
 #   any --dataset  ASL folder or rosbag (with --topic); --gt for ATE; --camera for bags
 # Modes: baseline he clahe enhance adaptive culling iraf.
 # Mapping runs inside the tracking thread (--set tracker.mapping_thread=false): results do not depend on the
 # machine's load (deterministic up to floating point); --threaded uses the mapping thread instead.
 # Output (default /tmp/iraf_vo_report): report.md, results.csv, fig*.png, runs/<seq>/<mode>.{txt,json,csv,log}.
-# --full: 400 simulated frames, all EuRoC profiles and all 600 EuRoC frames as an extra sequence.
+# --full: 400 simulated frames, all four EuRoC profiles, all 600 EuRoC frames (~25 min here).
 set -euo pipefail
 
 orig_args="$*"
@@ -25,7 +26,7 @@ repo="$(cd "$here/.." && pwd)"
 out=/tmp/iraf_vo_report
 full=0
 sim_frames=""
-euroc_frames=306
+euroc_frames=""
 modes="baseline he clahe enhance adaptive culling iraf"
 presets="clean dark flicker mixed overexposed"
 euroc_profiles="dark mixed"
@@ -57,7 +58,8 @@ while [[ $# -gt 0 ]]; do
     *) die "unknown argument '$1' (see --help)" ;;
   esac
 done
-[[ "$euroc_frames" =~ ^[0-9]+$ ]] || die "--euroc-frames '$euroc_frames': expected an integer"
+if [[ -z "$euroc_frames" ]]; then euroc_frames=306; [[ $full == 1 ]] && euroc_frames=600; fi
+[[ "$euroc_frames" =~ ^[0-9]+$ && "$euroc_frames" -ge 30 ]] || die "--euroc-frames '$euroc_frames': expected an integer"
 if [[ -z "$sim_frames" ]]; then sim_frames=300; [[ $full == 1 ]] && sim_frames=400; fi
 [[ "$sim_frames" =~ ^[0-9]+$ && "$sim_frames" -ge 60 ]] || die "--sim-frames '$sim_frames': expected an integer >= 60"
 [[ $full == 1 ]] && euroc_profiles="dark mixed flicker overexposed"
@@ -117,7 +119,6 @@ if [[ $do_euroc == 1 ]]; then
       fi
       seqs+=("euroc_$p|$d|$d/groundtruth/groundtruth_tum_cam0.txt|0|$euroc_frames||")
     done
-    [[ $full == 1 ]] && seqs+=("euroc_clean_600|$euroc|$egt|0|600||")
   else
     log "no EuRoC frames at $euroc: skipping the EuRoC sequences"
   fi
