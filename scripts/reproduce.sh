@@ -17,7 +17,7 @@
 # Mapping runs inside the tracking thread (--set tracker.mapping_thread=false): results do not depend on the
 # machine's load (deterministic up to floating point); --threaded uses the mapping thread instead.
 # Output (default /tmp/iraf_vo_report): report.md, results.csv, fig*.png, runs/<seq>/<mode>.{txt,json,csv,log}.
-# --full: 400 simulated frames, all four EuRoC profiles, all 600 EuRoC frames (~25 min here).
+# --full: 400 simulated frames, all four EuRoC profiles, all 600 EuRoC frames (~13 min here).
 set -euo pipefail
 
 orig_args="$*"
@@ -39,7 +39,7 @@ die() { echo "reproduce.sh: $*" >&2; exit 2; }
 need() { [[ $# -ge 2 && -n "$2" ]] || die "$1 needs a value"; }
 while [[ $# -gt 0 ]]; do
   case "$1" in
-    -h|--help) sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; exit 0 ;;
     --out) need "$@"; out="$2"; shift 2 ;;
     --full) full=1; shift ;;
     --sim-frames) need "$@"; sim_frames="$2"; shift 2 ;;
@@ -189,7 +189,8 @@ else
 fi
 # Fig. 4: a dark frame (the darkest frame of the first dark sequence at hand), baseline vs IRAF keypoints.
 dark_img=""
-for cand in "$out/data/euroc_dark" "$out/data/sim_dark_$sim_frames" "$out/data/sim_mixed_$sim_frames"; do
+for cand in "$out/data/euroc_dark" "$out/data/sim_dark_$sim_frames" "$out/data/sim_mixed_$sim_frames" \
+            ${ext_paths[@]+"${ext_paths[@]}"}; do
   if [[ -f "$cand/mav0/cam0/data.csv" ]]; then
     dark_img=$(python3 "$here/report.py" --darkest "$cand" --max-frames "$euroc_frames") && break
   fi
