@@ -418,11 +418,11 @@ def main():
     f3 = fig3(a.out)
     if f3:
         figures.append(f3)
-    if os.path.isfile(os.path.join(a.out, "fig4_keypoints_dark.png")):
-        figures.append(("fig4_keypoints_dark.png",
-                        "Fig. 4: keypoints of our FeatureExtractor on the darkest frame of a dark sequence: left "
-                        "baseline (original image, FAST 20/7, no culling), right IRAF (enhanced, adaptive threshold, "
-                        "kept keypoints red->green by stability S, culled ones as magenta crosses)"))
+    for f4 in sorted(n for n in os.listdir(a.out) if n.startswith("fig4_keypoints_") and n.endswith(".png")):
+        figures.append((f4, "Fig. 4: keypoints of our FeatureExtractor on the darkest frame of %s: left baseline "
+                            "(original image, FAST 20/7, no culling), right IRAF (enhanced, adaptive threshold, kept "
+                            "keypoints red->green by stability S, culled ones as magenta crosses)"
+                        % f4[len("fig4_keypoints_"):-4]))
     seqs = ordered_sequences(rows)
     if a.fig_sequences:
         wanted = [s for s in a.fig_sequences.split(",") if s]

@@ -187,23 +187,30 @@ else
   log "no low-light stills at $shared/lowlight_stills: Fig. 3 skipped"
   rm -f "$out/keypoint_curve.csv"
 fi
-# Fig. 4: a dark frame (the darkest frame of the first dark sequence at hand), baseline vs IRAF keypoints.
-dark_img=""
-for cand in "$out/data/euroc_dark" "$out/data/sim_dark_$sim_frames" "$out/data/sim_mixed_$sim_frames" \
-            ${ext_paths[@]+"${ext_paths[@]}"}; do
-  if [[ -f "$cand/mav0/cam0/data.csv" ]]; then
-    dark_img=$(python3 "$here/report.py" --darkest "$cand" --max-frames "$euroc_frames") && break
+# Fig. 4: the darkest frame of each dark sequence at hand (real EuRoC, simulated, --dataset folders):
+# baseline vs IRAF keypoints side by side, fig4_keypoints_<sequence>.png.
+rm -f "$out"/fig4_keypoints_*.png
+n_fig4=0
+for cand in "euroc_dark|$out/data/euroc_dark" "sim_dark|$out/data/sim_dark_$sim_frames"; do
+  IFS='|' read -r fname fdir <<< "$cand"
+  [[ -f "$fdir/mav0/cam0/data.csv" ]] || continue
+  dark_img=$(python3 "$here/report.py" --darkest "$fdir" --max-frames "$euroc_frames") || continue
+  log "keypoints on the darkest frame of $fname: $dark_img (Fig. 4)"
+  if "$bin/iraf_vo_draw_keypoints" --input "$dark_img" --output "$out/fig4_keypoints_$fname.png" > "$out/fig4_$fname.log" 2>&1; then
+    sed 's/^/    /' "$out/fig4_$fname.log"
+    n_fig4=$((n_fig4 + 1))
+  else
+    log "iraf_vo_draw_keypoints failed (see $out/fig4_$fname.log)"
   fi
 done
-rm -f "$out/fig4_keypoints_dark.png"
-if [[ -n "$dark_img" ]]; then
-  log "keypoints on a dark frame $dark_img (Fig. 4)"
-  "$bin/iraf_vo_draw_keypoints" --input "$dark_img" --output "$out/fig4_keypoints_dark.png" > "$out/fig4.log" 2>&1 \
-    || log "iraf_vo_draw_keypoints failed (see $out/fig4.log)"
-  cat "$out/fig4.log"
-else
-  log "no dark sequence: Fig. 4 skipped"
-fi
+for k in "${!ext_paths[@]}"; do
+  [[ $n_fig4 == 0 && -f "${ext_paths[$k]}/mav0/cam0/data.csv" ]] || continue
+  dark_img=$(python3 "$here/report.py" --darkest "${ext_paths[$k]}" --max-frames 0) || continue
+  log "keypoints on the darkest frame of ${ext_paths[$k]}: $dark_img (Fig. 4)"
+  "$bin/iraf_vo_draw_keypoints" --input "$dark_img" --output "$out/fig4_keypoints_ext$((k + 1)).png" > "$out/fig4_ext.log" 2>&1 \
+    && n_fig4=1 || log "iraf_vo_draw_keypoints failed (see $out/fig4_ext.log)"
+done
+[[ $n_fig4 -gt 0 ]] || log "no dark sequence: Fig. 4 skipped"
 
 log "writing the report"
 python3 "$here/report.py" --out "$out"
