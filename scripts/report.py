@@ -298,7 +298,6 @@ def traj_figures(out, rows, seq):
     if "iraf" not in errs and "baseline" not in errs:
         return []
     figs = []
-    ref = errs.get("iraf") or errs.get("baseline")
     t0 = min(float(e["t"][0]) for e in errs.values())
     # Ground truth at the matched stamps of the run with the most matches (all runs use the same GT).
     gt_run = max(errs.values(), key=lambda e: len(e["t"]))
@@ -383,7 +382,6 @@ def traj_figures(out, rows, seq):
     fig.savefig(os.path.join(out, name))
     plt.close(fig)
     figs.append((name, "Fig. 8: %s APE over time for every mode (log y axis when the modes' RMSE differ > 5x)" % seq))
-    del ref
     return figs
 
 
