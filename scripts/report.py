@@ -104,6 +104,13 @@ def darkest(asl_dir, max_frames):
     print(best)
 
 
+def fmt_len(v):
+    """A length in m as mm below 0.1 m (trajectory errors of a few mm stay readable)."""
+    if v is None or not math.isfinite(v):
+        return "-"
+    return "%.1f mm" % (1000 * v) if abs(v) < 0.1 else "%.3f m" % v
+
+
 def fmt(v, spec, missing="-"):
     if v is None or (isinstance(v, float) and not math.isfinite(v)):
         return missing
@@ -308,7 +315,7 @@ def traj_figures(out, rows, seq):
 
     def label(m):
         r = rs[m]
-        return "%s (ATE %.3f m, %.0f %% tracked)" % (MODE_LABEL[m], r["ate_rmse"] or float("nan"), r["tracked_pct"] or 0)
+        return "%s (ATE %s, %.0f %% tracked)" % (MODE_LABEL[m], fmt_len(r["ate_rmse"]), r["tracked_pct"] or 0)
 
     # Fig. 6: top-down trajectory.
     fig, ax = plt.subplots(figsize=(6.5, 5.5), dpi=110)
@@ -362,7 +369,7 @@ def traj_figures(out, rows, seq):
         e = errs[m]
         lw = 1.8 if m in ("baseline", "iraf") else 0.9
         ax.plot(e["t"] - t0, e["error"], "-", color=MODE_COLOR[m], lw=lw,
-                label="%s (RMSE %.4f m)" % (MODE_LABEL[m], rs[m]["ate_rmse"] or float("nan")))
+                label="%s (RMSE %s)" % (MODE_LABEL[m], fmt_len(rs[m]["ate_rmse"])))
         ymax = max(ymax, float(np.max(e["error"])))
         pos = e["error"][e["error"] > 0]
         if pos.size:
