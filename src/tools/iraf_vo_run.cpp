@@ -1,5 +1,5 @@
 // iraf_vo_run --dataset DIR_OR_BAG [--topic T] [--camera sensor.yaml] --out traj.txt
-//             [--mode iraf|baseline|enhance|adaptive|culling] [--gt GT] [--stats stats.json] [--config params.yaml]
+//             [--mode iraf|baseline|enhance|adaptive|culling|he|clahe] [--gt GT] [--stats stats.json] [--config params.yaml]
 //             [--first N] [--frames N] [--set tracker.key=value ...] [--quiet]
 // Offline monocular VO (no roscore): front-end (enhance + features) and back-end (tracking; BA on its own thread)
 // run on separate threads connected by a bounded queue. Writes the TUM trajectory of every tracked frame and a
@@ -45,12 +45,13 @@ double msSince(Clock::time_point t0) { return std::chrono::duration<double, std:
 void usage(FILE* f) {
   std::fprintf(f,
                "usage: iraf_vo_run --dataset DIR_OR_BAG [--topic T] [--camera sensor.yaml] --out traj.txt\n"
-               "                   [--mode iraf|baseline|enhance|adaptive|culling] [--gt GT] [--stats stats.json]\n"
+               "                   [--mode iraf|baseline|enhance|adaptive|culling|he|clahe] [--gt GT] [--stats stats.json]\n"
                "                   [--config params.yaml] [--first N] [--frames N] [--set section.key=value] [--frame-log F] [--quiet]\n"
                "  --dataset  ASL folder (DIR/mav0/cam0/data.csv) or a rosbag (.bag, needs --topic)\n"
                "  --camera   camera yaml (default: the ASL folder's mav0/cam0/sensor.yaml)\n"
                "  --mode     iraf = enhancement + adaptive threshold + culling (default); baseline = all off;\n"
-               "             enhance / adaptive / culling = that module alone\n"
+               "             enhance / adaptive / culling = that module alone; he / clahe = global histogram\n"
+               "             equalization / CLAHE (clip 3.0, 8x8 tiles) + the baseline features (paper Table I)\n"
                "  --gt       ground truth (TUM or EuRoC csv) -> Sim(3) ATE in the summary\n"
                "  --config   YAML with optional maps 'enhance:', 'features:', 'tracker:' (keys = parameter names)\n"
                "  --first/--frames  process frames [first, first + frames) only\n"
@@ -225,8 +226,13 @@ int main(int argc, char** argv) {
     ep.method = iraf_vo::EnhanceMethod::kNone;
     fp.adaptive_threshold = false;
     fp.culling = true;
+  } else if (mode == "he" || mode == "clahe") {
+    // Comparison front-ends of the paper's Table I: HE / CLAHE preprocessing + fixed ORB-SLAM FAST thresholds.
+    ep.method = mode == "he" ? iraf_vo::EnhanceMethod::kHe : iraf_vo::EnhanceMethod::kClahe;
+    fp.adaptive_threshold = false;
+    fp.culling = false;
   } else {
-    std::fprintf(stderr, "iraf_vo_run: --mode '%s': expected iraf, baseline, enhance, adaptive or culling\n",
+    std::fprintf(stderr, "iraf_vo_run: --mode '%s': expected iraf, baseline, enhance, adaptive, culling, he or clahe\n",
                  mode.c_str());
     return 2;
   }
