@@ -1,5 +1,7 @@
 #include "iraf_vo/features/feature_extractor.h"
 
+#include "iraf_vo/common/cpu_clock.h"
+
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -16,17 +18,6 @@ constexpr int kEdgeThreshold = 19;  // ORB-SLAM EDGE_THRESHOLD: keypoints stay >
 constexpr int kPatchSize = 31;      // ORB patch (descriptor) size
 constexpr int kHalfPatch = 15;      // radius of the intensity-centroid disc
 
-// Stage times are CPU time of the calling thread: on a shared machine the wall time of a few-ms stage is
-// dominated by preemptions. Without preemption both agree.
-struct Clock {
-  using time_point = double;
-  static double now() {
-    timespec ts;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-  }
-};
-double msSince(double t0) { return Clock::now() - t0; }
 
 struct QNode {
   float x0, y0, x1, y1;
@@ -200,7 +191,7 @@ FeatureFrame FeatureExtractor::extract(const cv::Mat& gray8, double stamp, const
     culled->stability.clear();
   }
 
-  auto t_detect = Clock::now();
+  auto t_detect = threadCpuMs();
   double ms_threshold = 0.0;
   // Level 0 is copied so the frame never aliases caller memory kept in pyramid().
   gray8.copyTo(level0_);
@@ -225,7 +216,7 @@ FeatureFrame FeatureExtractor::extract(const cv::Mat& gray8, double stamp, const
     const int w_cell = (width + n_cols - 1) / n_cols, h_cell = (height + n_rows - 1) / n_rows;
 
     // ---- thresholds per cell ----
-    auto t_th = Clock::now();
+    auto t_th = threadCpuMs();
     const int n_cells = n_rows * n_cols;
     thresholds_.assign(n_cells, static_cast<double>(p.ini_th_fast));
     double retry_th = p.min_th_fast;
@@ -279,7 +270,7 @@ FeatureFrame FeatureExtractor::extract(const cv::Mat& gray8, double stamp, const
     } else if (l == 0) {
       st.global_threshold = p.ini_th_fast;
     }
-    ms_threshold += msSince(t_th);
+    ms_threshold += threadCpuMsSince(t_th);
 
     // ---- FAST with a threshold per cell ----
     // ORB-SLAM runs cv::FAST once per cell (ROI = cell + 3 px each side). cv::FAST on 41-px-wide ROIs is
@@ -413,16 +404,16 @@ FeatureFrame FeatureExtractor::extract(const cv::Mat& gray8, double stamp, const
     }
   }
   st.detected = static_cast<int>(all_kps.size());
-  double ms_detect = msSince(t_detect) - ms_threshold;
+  double ms_detect = threadCpuMsSince(t_detect) - ms_threshold;
 
   // ---- culling (eqs. 21-23) ----
-  auto t_cull = Clock::now();
+  auto t_cull = threadCpuMs();
   const CullResult cr = cullKeypoints(all_kps, pyramid_, gray8.size(), p);
   st.culled = cr.culled;
-  st.ms_cull = msSince(t_cull);
+  st.ms_cull = threadCpuMsSince(t_cull);
 
   // ---- descriptors of the kept keypoints (rotated BRIEF), level by level ----
-  auto t_desc = Clock::now();
+  auto t_desc = threadCpuMs();
   frame.keypoints.reserve(all_kps.size() - cr.culled);
   frame.stability.reserve(all_kps.size() - cr.culled);
   frame.descriptors.create(static_cast<int>(all_kps.size()) - cr.culled, 32, CV_8U);
@@ -456,7 +447,7 @@ FeatureFrame FeatureExtractor::extract(const cv::Mat& gray8, double stamp, const
       frame.stability.push_back(cr.stability[i]);
     }
   }
-  st.ms_describe = msSince(t_desc);
+  st.ms_describe = threadCpuMsSince(t_desc);
   ms_detect += st.ms_describe;
 
   st.ms_threshold = ms_threshold;

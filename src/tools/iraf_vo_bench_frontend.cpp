@@ -24,25 +24,13 @@
 #include <string>
 #include <vector>
 
+#include "iraf_vo/common/cpu_clock.h"
 #include "iraf_vo/enhance/enhancer.h"
 #include "iraf_vo/features/feature_extractor.h"
 
 using namespace iraf_vo;
 
 namespace {
-
-// Times are CPU time of this thread (CLOCK_THREAD_CPUTIME_ID), like the core's FeatureStats stage times: the
-// machine this was written on is shared, and the wall time of a 10 ms call includes preemptions. On an idle
-// machine CPU and wall time agree.
-struct Clock {
-  using time_point = double;
-  static double now() {
-    timespec ts;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-  }
-};
-double msSince(double t0) { return Clock::now() - t0; }
 
 double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
@@ -171,23 +159,23 @@ int main(int argc, char** argv) {
 
   for (size_t i = 0; i < images.size(); ++i) {
     const cv::Mat& img = images[i];
-    auto t0 = Clock::now();
+    auto t0 = threadCpuMs();
     orb->detectAndCompute(img, cv::noArray(), kps, desc);
-    t_orb.push_back(msSince(t0));
+    t_orb.push_back(threadCpuMsSince(t0));
     n_orb.push_back(static_cast<double>(kps.size()));
 
-    t0 = Clock::now();
+    t0 = threadCpuMs();
     const FeatureFrame f_off = fx_off.extract(img, 0, off);
-    t_off.push_back(msSince(t0));
+    t_off.push_back(threadCpuMsSince(t0));
     det_off.push_back(f_off.stats.ms_detect);
     n_off.push_back(static_cast<double>(f_off.keypoints.size()));
 
-    t0 = Clock::now();
-    auto t_e = Clock::now();
+    t0 = threadCpuMs();
+    auto t_e = threadCpuMs();
     const EnhanceResult er = enhancer.enhance(img, ep);
-    enh.push_back(msSince(t_e));
+    enh.push_back(threadCpuMsSince(t_e));
     const FeatureFrame f_on = fx_on.extract(er.image, 0, on);
-    t_on.push_back(msSince(t0));
+    t_on.push_back(threadCpuMsSince(t0));
     thr.push_back(f_on.stats.ms_threshold);
     det.push_back(f_on.stats.ms_detect);
     desc_ms.push_back(f_on.stats.ms_describe);

@@ -14,21 +14,19 @@
 #include <string>
 #include <vector>
 
+#include "common/tmp_dir.h"
+
 namespace {
 
+/// This binary's temp folder under tmpRoot() (common/tmp_dir.h removes it at exit).
 std::string tmpDir() {
   static const std::string d = [] {
-    const std::string base = testing::TempDir().empty() ? std::string("/tmp/") : testing::TempDir();
-    const std::string p = base + "iraf_vo_badcli_" + std::to_string(::getpid());
+    const std::string p = tmpRoot() + "badcli";
     ::mkdir(p.c_str(), 0755);
     return p;
   }();
   return d;
 }
-struct TmpCleanup : testing::Environment {
-  void TearDown() override { std::system(("rm -rf " + tmpDir()).c_str()); }
-};
-const testing::Environment* const kTmpCleanup = testing::AddGlobalTestEnvironment(new TmpCleanup);
 
 bool exists(const std::string& p) {
   struct stat st;

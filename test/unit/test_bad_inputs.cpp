@@ -26,24 +26,21 @@
 #include "iraf_vo/enhance/enhance_params_io.h"
 #include <yaml-cpp/yaml.h>
 
+#include "common/tmp_dir.h"
+
 using namespace iraf_vo;
 
 namespace {
 
-/// Per-process temp folder (parallel runs of plain + sanitizer builds never share files), removed at exit.
+/// This binary's temp folder under tmpRoot() (common/tmp_dir.h removes it at exit).
 std::string tmpDir() {
   static const std::string d = [] {
-    const std::string base = testing::TempDir().empty() ? std::string("/tmp/") : testing::TempDir();
-    const std::string p = base + "iraf_vo_bad_" + std::to_string(::getpid());
+    const std::string p = tmpRoot() + "bad";
     ::mkdir(p.c_str(), 0755);
     return p;
   }();
   return d;
 }
-struct TmpCleanup : testing::Environment {
-  void TearDown() override { std::system(("rm -rf " + tmpDir()).c_str()); }
-};
-const testing::Environment* const kTmpCleanup = testing::AddGlobalTestEnvironment(new TmpCleanup);
 
 void writeFile(const std::string& path, const std::string& text) {
   std::ofstream f(path, std::ios::binary | std::ios::trunc);
