@@ -1,8 +1,10 @@
-// Synthetic helpers shared by the tracking tests: tiny local camera models (pinhole without distortion and an
+// Synthetic helpers shared by the tracking tests: the core camera models without distortion (pinhole and
 // equidistant fisheye) and a synthetic feature renderer (random 3D points with random ORB-like descriptors).
 #pragma once
 
 #include <iraf_vo/camera/camera_model.h>
+#include <iraf_vo/camera/kannala_brandt.h>
+#include <iraf_vo/camera/pinhole_radtan.h>
 #include <iraf_vo/features/feature_frame.h>
 
 #include <Eigen/Geometry>
@@ -15,79 +17,14 @@
 namespace iraf_vo {
 namespace test {
 
-class TestPinhole : public CameraModel {
- public:
-  TestPinhole(int w, int h, double f, double cx, double cy) : f_(f), cx_(cx), cy_(cy) {
-    width_ = w;
-    height_ = h;
-  }
-  std::string modelName() const override { return "pinhole-radtan"; }
-  bool project(const Eigen::Vector3d& p, Eigen::Vector2d* uv, Eigen::Matrix<double, 2, 3>* J) const override {
-    if (p.z() <= 1e-9) return false;
-    const double iz = 1.0 / p.z();
-    *uv = Eigen::Vector2d(f_ * p.x() * iz + cx_, f_ * p.y() * iz + cy_);
-    if (J) *J << f_ * iz, 0, -f_ * p.x() * iz * iz, 0, f_ * iz, -f_ * p.y() * iz * iz;
-    return true;
-  }
-  bool unproject(const Eigen::Vector2d& uv, Eigen::Vector3d* b) const override {
-    *b = Eigen::Vector3d((uv.x() - cx_) / f_, (uv.y() - cy_) / f_, 1.0).normalized();
-    return true;
-  }
-  std::vector<double> parameters() const override { return {f_, f_, cx_, cy_}; }
-  double focal() const override { return f_; }
-
- private:
-  double f_, cx_, cy_;
+// The core camera models without distortion, with the tests' (w, h, f, cx, cy) signature.
+struct TestPinhole : PinholeRadtan {
+  TestPinhole(int w, int h, double f, double cx, double cy) : PinholeRadtan(w, h, f, f, cx, cy) {}
 };
 
-/// Equidistant fisheye (Kannala-Brandt with k1..k4 = 0): r = f * theta. Jacobian by central differences.
-class TestFisheye : public CameraModel {
- public:
-  TestFisheye(int w, int h, double f, double cx, double cy) : f_(f), cx_(cx), cy_(cy) {
-    width_ = w;
-    height_ = h;
-  }
-  std::string modelName() const override { return "kannala-brandt"; }
-  bool project(const Eigen::Vector3d& p, Eigen::Vector2d* uv, Eigen::Matrix<double, 2, 3>* J) const override {
-    if (!raw(p, uv)) return false;
-    if (J) {
-      for (int k = 0; k < 3; ++k) {
-        const double h = 1e-6 * std::max(1.0, p.norm());
-        Eigen::Vector3d a = p, b = p;
-        a(k) += h;
-        b(k) -= h;
-        Eigen::Vector2d ua, ub;
-        raw(a, &ua);
-        raw(b, &ub);
-        J->col(k) = (ua - ub) / (2 * h);
-      }
-    }
-    return true;
-  }
-  bool unproject(const Eigen::Vector2d& uv, Eigen::Vector3d* b) const override {
-    const double mx = (uv.x() - cx_) / f_, my = (uv.y() - cy_) / f_;
-    const double theta = std::sqrt(mx * mx + my * my);
-    if (theta < 1e-12) {
-      *b = Eigen::Vector3d(0, 0, 1);
-      return true;
-    }
-    const double s = std::sin(theta) / theta;
-    *b = Eigen::Vector3d(mx * s, my * s, std::cos(theta));
-    return true;
-  }
-  std::vector<double> parameters() const override { return {f_, f_, cx_, cy_, 0, 0, 0, 0}; }
-  double focal() const override { return f_; }
-
- private:
-  bool raw(const Eigen::Vector3d& p, Eigen::Vector2d* uv) const {
-    const double r = std::sqrt(p.x() * p.x() + p.y() * p.y());
-    const double theta = std::atan2(r, p.z());
-    if (theta > 1.6) return false;
-    const double s = r > 1e-12 ? theta / r : 1.0 / std::max(p.z(), 1e-12);
-    *uv = Eigen::Vector2d(f_ * p.x() * s + cx_, f_ * p.y() * s + cy_);
-    return true;
-  }
-  double f_, cx_, cy_;
+/// Equidistant fisheye (Kannala-Brandt with k1..k4 = 0): r = f * theta.
+struct TestFisheye : KannalaBrandt {
+  TestFisheye(int w, int h, double f, double cx, double cy) : KannalaBrandt(w, h, f, f, cx, cy) {}
 };
 
 inline Eigen::Isometry3d makePose(const Eigen::Vector3d& rpy_deg, const Eigen::Vector3d& t) {
