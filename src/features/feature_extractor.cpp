@@ -184,6 +184,7 @@ FeatureFrame FeatureExtractor::extract(const cv::Mat& gray8, double stamp, const
   FeatureFrame frame;
   frame.stamp = stamp;
   frame.width = gray8.cols;
+  frame.scale_factor = p.scale_factor;
   frame.height = gray8.rows;
   FeatureStats& st = frame.stats;
   if (culled) {

@@ -36,6 +36,7 @@ struct FeatureFrame {
                                        // class_id holds the FAST threshold used (rounded)
   cv::Mat descriptors;                 // N x 32 CV_8U, row i <-> keypoints[i]
   std::vector<float> stability;        // S of eq. 23 per kept keypoint (1 when culling is off)
+  double scale_factor = 1.2;           // pyramid scale: keypoint sigma at octave o = scale_factor^o px
   FeatureStats stats;
 };
 

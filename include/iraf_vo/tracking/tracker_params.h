@@ -1,0 +1,71 @@
+// Parameters of the tracking / mapping back-end (ROS-free).
+#pragma once
+
+#include <string>
+
+namespace iraf_vo {
+
+/// Field names = the parameters of cfg/Tracker.cfg and the YAML `tracker:` section.
+struct TrackerParams {
+  // ---- features / pyramid ----
+  double scale_factor = 1.2;            // ORB pyramid scale: sigma of octave o = scale_factor^o pixels
+  // ---- initialization ----
+  int init_min_features = 100;          // a reference frame needs at least this many keypoints
+  int init_min_matches = 100;           // fewer matches to the reference -> new reference
+  int init_max_frames = 30;             // reference older than this -> new reference
+  double init_threshold_px = 1.5;       // H / E RANSAC and scoring threshold
+  double init_min_parallax_deg = 1.0;
+  int init_min_triangulated = 60;
+  double init_homography_ratio = 0.45;  // R_H threshold (ORB-SLAM)
+  double init_match_ratio = 0.8;        // Lowe ratio of the initialization matching
+  // ---- matching ----
+  int match_threshold_high = 100;       // Hamming, projection search (ORB-SLAM TH_HIGH)
+  int match_threshold_low = 50;         // Hamming, triangulation / brute force (ORB-SLAM TH_LOW)
+  double match_ratio = 0.8;             // best / second-best (same octave) in projection search
+  double search_radius_px = 15.0;       // projection search window at octave 0 (times scale_factor^octave)
+  double search_radius_wide_px = 40.0;  // fallback window
+  double search_radius_refine_px = 4.0; // second pass after the pose refinement
+  int min_search_matches = 30;          // fewer -> widen the window, then PnP fallback
+  bool check_orientation = true;        // rotation-consistency histogram in brute-force matching
+  // ---- pose refinement / tracking ----
+  double pnp_threshold_px = 3.0;
+  int pnp_iterations = 200;
+  int pose_rounds = 3;
+  int pose_max_iterations = 10;
+  bool pose_use_ceres = false;          // pose-only refinement with ceres::Solve instead of the 6x6 LM
+  int min_tracking_inliers = 25;
+  // ---- keyframes ----
+  double keyframe_tracked_ratio = 0.9;
+  int keyframe_min_tracked = 80;
+  int min_frames_between_keyframes = 0;
+  int max_frames_between_keyframes = 20;
+  // ---- local mapping ----
+  bool mapping_thread = true;           // false: mapping runs synchronously inside track() (deterministic)
+  int starving_inliers = 60;            // keyframe inserted with fewer inliers: track() triangulates its new points
+                                        // itself (the mapping thread may be busy); never waits for BA
+  int sync_mapping_busy_frames = 3;     // mapping_thread = false: the keyframe policy treats mapping as busy for
+                                        // this many frames after a keyframe (emulates the threaded keyframe rate)
+  int num_triangulation_neighbors = 6;
+  double min_triangulation_parallax_deg = 1.0;
+  double min_found_ratio = 0.25;
+  // ---- sliding-window BA ----
+  int ba_window_size = 10;
+  int max_map_keyframes = 20;
+  int ba_max_num_iterations = 10;
+  double ba_max_solver_time_in_seconds = 0.1;
+  double ba_huber_delta = 2.447;        // sqrt(5.991) on the sigma-normalized residual
+  int max_pending_keyframes = 2;        // keyframe queue bound: inserting waits while this many are queued
+                                        // (only under CPU overload; 0 = unbounded)
+  int ba_every_keyframes = 2;           // BA at least every this many keyframes even if more are queued
+  double ba_min_fixed_span = 0.3;       // gauge: fixed keyframe centres must span >= this fraction of the window
+  bool ba_abort_on_keyframe = false;    // true: a queued keyframe aborts a running BA (ORB-SLAM); false: BA runs
+                                        // to its iteration / time budget (keyframes queued meanwhile are
+                                        // triangulated afterwards, BA once for the batch)
+  // ---- loss ----
+  int lost_frames_before_reset = 2;
+};
+
+/// Returns a message naming the bad field, or "" when usable.
+std::string validate(const TrackerParams& p);
+
+}  // namespace iraf_vo
