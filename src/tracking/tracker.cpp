@@ -1227,6 +1227,8 @@ struct Tracker::Impl {
     res->state = TrackingState::kTracking;
     res->is_keyframe = is_kf;
     res->T_w_c = cur.T_c_w.inverse();
+    res->keypoint_inlier.assign(cur.point_id.size(), 0);
+    for (size_t i = 0; i < cur.point_id.size(); ++i) res->keypoint_inlier[i] = cur.point_id[i] >= 0;
     last_good_T_w_c = res->T_w_c;
     have_last_good = true;
     last = cur;

@@ -88,6 +88,7 @@ struct TrackResult {
   bool is_keyframe = false;
   bool initialized_now = false;  // this frame completed a (re-)initialization
   bool used_pnp = false;
+  std::vector<char> keypoint_inlier;  // per input keypoint: 1 = matched to a map point and a pose inlier
   TrackTiming timing;
 };
 
