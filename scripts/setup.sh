@@ -32,10 +32,16 @@ PACKAGES=(
   python3-dynamic-reconfigure python3-roslib python3-rostest python3-rosbag python3-roslaunch rosbash
   python3-rosnode python3-rostopic python3-rosservice python3-rosparam python3-std-srvs libstd-srvs-dev
   python3-sensor-msgs python3-geometry-msgs python3-nav-msgs python3-tf2-msgs
+  libdiagnostic-updater-dev python3-diagnostic-msgs python3-diagnostic-updater
+  python3-tf2-ros tf2-tools image-transport-tools
   libceres-dev libeigen3-dev libopencv-dev libyaml-cpp-dev libgtest-dev
   python3-numpy python3-matplotlib python3-yaml python3-opencv
   opencv-doc rviz
 )
+# What the README's commands use besides the build: `rostopic echo /diagnostics` (python3-diagnostic-msgs; the
+# nodelets publish through diagnostic_updater), `rosrun tf2_tools echo.py world cam0` (tf2-tools: Debian ships no
+# tf2_echo binary, tf2_tools' echo.py is the same check; view_frames.py too), tf2_ros' python API
+# (python3-tf2-ros), `rosrun image_transport list_transports` / `republish` (image-transport-tools).
 # screenshots of rviz without a display (README figure): IRAF_VO_WITH_XVFB=1
 if [ "${IRAF_VO_WITH_XVFB:-0}" = 1 ]; then PACKAGES+=(xvfb x11-apps); fi
 

@@ -96,6 +96,8 @@ bool AslImageReader::open(const std::string& dir_in, std::string* error, const s
   entries_.clear();
   warnings_.clear();
   cursor_ = 0;
+  rows_ = missing_ = bad_rows_ = 0;
+  unreadable_ = 0;
   const std::string dir = stripSlash(dir_in);
   // Accept DIR, DIR/mav0 and DIR/mav0/<camera> (anything holding data.csv directly).
   if (isFile(dir + "/data.csv")) {
@@ -125,10 +127,12 @@ bool AslImageReader::open(const std::string& dir_in, std::string* error, const s
     ++line_no;
     const std::string t = trim(line);
     if (t.empty() || t[0] == '#') continue;
+    ++rows_;
     const size_t comma = t.find(',');
     const std::string where = csv + ":" + std::to_string(line_no) + ": ";
     if (comma == std::string::npos) {
       warnings_.push_back(where + "malformed row '" + t + "' (expected 'timestamp_ns,filename'), skipped");
+      ++bad_rows_;
       continue;
     }
     const std::string ts = trim(t.substr(0, comma));
@@ -141,13 +145,16 @@ bool AslImageReader::open(const std::string& dir_in, std::string* error, const s
     }
     if (!digits || name.empty() || name.find(',') != std::string::npos) {
       warnings_.push_back(where + "malformed row '" + t + "' (expected 'timestamp_ns,filename'), skipped");
+      ++bad_rows_;
       continue;
     }
     ImageEntry e;
     e.stamp_ns = stamp_ns;
     e.path = cam_dir_ + "/data/" + name;
+    e.csv_line = line_no;
     if (!isFile(e.path)) {
       warnings_.push_back(where + "image file missing: " + e.path + ", skipped");
+      ++missing_;
       continue;
     }
     entries_.push_back(e);
@@ -157,7 +164,9 @@ bool AslImageReader::open(const std::string& dir_in, std::string* error, const s
   std::vector<ImageEntry> unique;
   for (const ImageEntry& e : entries_) {
     if (!unique.empty() && unique.back().stamp_ns == e.stamp_ns) {
-      warnings_.push_back(csv + ": duplicate timestamp " + std::to_string(e.stamp_ns) + " (" + e.path + "), skipped");
+      warnings_.push_back(csv + ":" + std::to_string(e.csv_line) + ": duplicate timestamp " + std::to_string(e.stamp_ns) +
+                          " (" + e.path + "), skipped");
+      ++bad_rows_;
       continue;
     }
     unique.push_back(e);
@@ -189,7 +198,23 @@ bool AslImageReader::loadImage(size_t i, cv::Mat* gray, std::string* error) cons
     if (error) *error = "image index " + std::to_string(i) + " out of range (" + std::to_string(entries_.size()) + " images)";
     return false;
   }
-  return readMono8(entries_[i].path, gray, error);
+  std::string err;
+  if (readMono8(entries_[i].path, gray, &err)) return true;
+  ++unreadable_;
+  if (error) *error = cam_dir_ + "/data.csv:" + std::to_string(entries_[i].csv_line) + ": " + err;
+  return false;
+}
+
+std::string AslImageReader::skippedSummary() const {
+  const size_t unreadable = unreadable_;
+  const size_t skipped = missing_ + bad_rows_ + unreadable;
+  if (skipped == 0) return "";
+  std::string s = std::to_string(skipped) + " of " + std::to_string(rows_) + " rows of " + cam_dir_ + "/data.csv skipped:";
+  const char* sep = " ";
+  if (missing_) s += sep + std::to_string(missing_) + " image file" + (missing_ > 1 ? "s" : "") + " missing", sep = ", ";
+  if (unreadable) s += sep + std::to_string(unreadable) + " unreadable", sep = ", ";
+  if (bad_rows_) s += sep + std::to_string(bad_rows_) + " malformed / duplicate row" + (bad_rows_ > 1 ? "s" : "");
+  return s;
 }
 
 bool AslImageReader::next(ImageEntry* entry, cv::Mat* gray) {

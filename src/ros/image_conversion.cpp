@@ -1,7 +1,10 @@
 #include "iraf_vo/ros/image_conversion.h"
 
 #include <cv_bridge/cv_bridge.h>
+#include <opencv2/imgcodecs.hpp>
 #include <sensor_msgs/image_encodings.h>
+
+#include "iraf_vo/io/image_folder.h"
 
 namespace iraf_vo {
 
@@ -44,6 +47,35 @@ bool toMono8(const sensor_msgs::ImageConstPtr& msg, cv::Mat* gray, std::string* 
     return false;
   } catch (const cv::Exception& e) {
     *error = std::string("OpenCV: ") + e.what();
+    return false;
+  }
+  return true;
+}
+
+bool toMono8(const sensor_msgs::CompressedImage& msg, cv::Mat* gray, std::string* error) {
+  const std::string what = "compressed image (format '" + msg.format + "', " + std::to_string(msg.data.size()) + " bytes)";
+  if (msg.format.find("compressedDepth") != std::string::npos) {
+    *error = what + ": compressedDepth (depth images) is not supported; use the 'compressed' transport (jpeg / png)";
+    return false;
+  }
+  if (msg.data.empty()) {
+    *error = what + ": no data";
+    return false;
+  }
+  cv::Mat raw;
+  try {
+    raw = cv::imdecode(msg.data, cv::IMREAD_UNCHANGED);
+  } catch (const cv::Exception& e) {
+    *error = what + ": OpenCV cannot decode it: " + e.what();
+    return false;
+  }
+  if (raw.empty()) {
+    *error = what + ": cannot decode (not a valid jpeg / png)";
+    return false;
+  }
+  std::string err;
+  if (!toGray8(raw, gray, &err)) {
+    *error = what + ": " + err;
     return false;
   }
   return true;

@@ -1,6 +1,8 @@
 // iraf_vo_asl_to_bag DIR OUT.bag [--topic /cam0/image_raw] [--frame-id cam0] [--camera cam0] [--compression none|bz2|lz4]
+//                    [--compressed[=png|jpeg]] [--jpeg-quality 1..100]
 // Converts an ASL / EuRoC / TUM-VI image folder (DIR, DIR/mav0 or DIR/mav0/cam0) into a rosbag of mono8
-// sensor_msgs/Image messages stamped with the data.csv timestamps.
+// sensor_msgs/Image messages stamped with the data.csv timestamps; --compressed writes sensor_msgs/CompressedImage
+// (png: lossless, default; jpeg) on TOPIC/compressed as recorded camera bags carry them.
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -12,8 +14,10 @@ namespace {
 void usage(FILE* f) {
   std::fprintf(f,
                "usage: iraf_vo_asl_to_bag DIR OUT.bag [--topic /cam0/image_raw] [--frame-id cam0] [--camera cam0]\n"
-               "                          [--compression none|bz2|lz4]\n"
-               "  DIR  ASL folder: DIR, DIR/mav0 or DIR/mav0/cam0 holding data.csv + data/*.png\n");
+               "                          [--compression none|bz2|lz4] [--compressed[=png|jpeg]] [--jpeg-quality 95]\n"
+               "  DIR  ASL folder: DIR, DIR/mav0 or DIR/mav0/cam0 holding data.csv + data/*.png\n"
+               "  --compressed  sensor_msgs/CompressedImage on TOPIC/compressed (png = lossless, default; or jpeg)\n"
+               "  --compression  rosbag chunk compression (independent of --compressed)\n");
 }
 }  // namespace
 
@@ -40,6 +44,21 @@ int main(int argc, char** argv) {
       opt.camera = value("--camera");
     } else if (a == "--compression") {
       opt.compression = value("--compression");
+    } else if (a == "--compressed" || a.rfind("--compressed=", 0) == 0) {
+      opt.image_format = a == "--compressed" ? "png" : a.substr(13);
+      if (opt.image_format != "png" && opt.image_format != "jpeg") {
+        std::fprintf(stderr, "iraf_vo_asl_to_bag: %s: expected --compressed, --compressed=png or --compressed=jpeg\n", a.c_str());
+        return 2;
+      }
+    } else if (a == "--jpeg-quality") {
+      const std::string q = value("--jpeg-quality");
+      char* end = nullptr;
+      const long v = std::strtol(q.c_str(), &end, 10);
+      if (q.empty() || *end != '\0' || v < 1 || v > 100) {
+        std::fprintf(stderr, "iraf_vo_asl_to_bag: --jpeg-quality '%s': expected an integer 1..100\n", q.c_str());
+        return 2;
+      }
+      opt.jpeg_quality = static_cast<int>(v);
     } else if (!a.empty() && a[0] == '-') {
       std::fprintf(stderr, "iraf_vo_asl_to_bag: unknown option '%s'\n", a.c_str());
       usage(stderr);
@@ -62,7 +81,9 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "iraf_vo_asl_to_bag: %s\n", err.c_str());
     return 1;
   }
-  std::printf("wrote %zu images to %s on %s (frame_id %s, %zu skipped)\n", n, pos[1].c_str(), opt.topic.c_str(),
+  const std::string topic = opt.image_format == "raw" ? opt.topic : opt.topic + "/compressed";
+  std::printf("wrote %zu %s images to %s on %s (frame_id %s, %zu skipped)\n", n,
+              opt.image_format == "raw" ? "mono8" : opt.image_format.c_str(), pos[1].c_str(), topic.c_str(),
               opt.frame_id.c_str(), warnings.size());
   return 0;
 }

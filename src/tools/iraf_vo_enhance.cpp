@@ -3,8 +3,9 @@
 //   iraf_vo_enhance INPUT OUTPUT_DIR [--method iraf|he|clahe|none] [--params FILE.yaml]
 //                   [--set key=value ...] [--threads N] [--csv stats.csv] [--no-write]
 //
-// INPUT: an image file, a folder of images, or an ASL/EuRoC folder (uses mav0/cam0/data).
-// Writes OUTPUT_DIR/<name>.png per image and prints per-image class/mu/t/ms and a summary.
+// INPUT: an image file, a folder of images, or an ASL/EuRoC folder (the images listed in mav0/cam0/data.csv).
+// Writes OUTPUT_DIR/<name>.png per image and prints per-image class/mu/t/ms and a summary. Missing / unreadable
+// images are reported (file, data.csv line), skipped and counted at the end; then the exit code is 1.
 #include <yaml-cpp/yaml.h>
 
 #include <opencv2/core/utility.hpp>
@@ -18,6 +19,7 @@
 
 #include "iraf_vo/enhance/enhance_params_io.h"
 #include "iraf_vo/enhance/enhancer.h"
+#include "iraf_vo/io/image_folder.h"
 
 namespace fs = std::filesystem;
 using namespace iraf_vo;
@@ -27,7 +29,8 @@ namespace {
 void usage() {
   std::cerr << "usage: iraf_vo_enhance INPUT OUTPUT_DIR [--method iraf|he|clahe|none] [--params FILE.yaml]\n"
                "                       [--set key=value ...] [--threads N] [--csv stats.csv] [--no-write]\n"
-               "  INPUT: image file, folder of images, or ASL folder (mav0/cam0/data)\n"
+               "  INPUT: image file, folder of images, or ASL folder (images listed in mav0/cam0/data.csv)\n"
+               "  missing / unreadable images are reported and skipped; exit code 1 if any was skipped\n"
                "  parameters (--set): ";
   for (const auto& n : enhanceParamNames()) std::cerr << n << " ";
   std::cerr << "\n";
@@ -115,8 +118,17 @@ int main(int argc, char** argv) {
   fs::path input = pos[0];
   std::vector<fs::path> files;
   std::error_code ec;
-  if (fs::is_directory(input / "mav0" / "cam0" / "data", ec)) input = input / "mav0" / "cam0" / "data";
-  if (fs::is_directory(input, ec)) {
+  AslImageReader asl;  // ASL folder: the images data.csv lists (missing ones reported with their line)
+  const bool is_asl = fs::is_regular_file(input / "mav0" / "cam0" / "data.csv", ec) ||
+                      fs::is_regular_file(input / "cam0" / "data.csv", ec) || fs::is_regular_file(input / "data.csv", ec);
+  if (is_asl) {
+    if (!asl.open(input.string(), &err)) {
+      std::cerr << "iraf_vo_enhance: " << err << "\n";
+      return 1;
+    }
+    for (const std::string& w : asl.warnings()) std::cerr << "iraf_vo_enhance: " << w << "\n";
+    for (const ImageEntry& e : asl.entries()) files.push_back(e.path);
+  } else if (fs::is_directory(input, ec)) {
     for (const auto& e : fs::directory_iterator(input, ec))
       if (e.is_regular_file() && isImage(e.path())) files.push_back(e.path());
     std::sort(files.begin(), files.end());
@@ -151,13 +163,15 @@ int main(int argc, char** argv) {
   Enhancer enhancer;
   std::vector<double> ms;
   std::map<std::string, int> classes;
-  int failed = 0;
+  int failed = 0, unreadable = 0;
   const bool verbose = files.size() <= 20;
-  for (const auto& f : files) {
-    const cv::Mat img = cv::imread(f.string(), cv::IMREAD_GRAYSCALE);
-    if (img.empty()) {
-      std::cerr << "iraf_vo_enhance: cannot read image " << f << ", skipped\n";
+  for (size_t k = 0; k < files.size(); ++k) {
+    const fs::path& f = files[k];
+    cv::Mat img;
+    if (!(is_asl ? asl.loadImage(k, &img, &err) : readMono8(f.string(), &img, &err))) {
+      std::cerr << "iraf_vo_enhance: " << err << ", skipped\n";
       ++failed;
+      ++unreadable;
       continue;
     }
     const EnhanceResult r = enhancer.enhance(img, params);
@@ -183,6 +197,10 @@ int main(int argc, char** argv) {
                 s[std::min(s.size() - 1, s.size() * 95 / 100)], classes["dim"], classes["normal"], classes["bright"]);
     if (write) std::printf("output: %s\n", fs::absolute(out_dir).c_str());
   }
-  if (failed) std::cerr << "iraf_vo_enhance: " << failed << " image(s) failed\n";
+  const std::string skipped = asl.skippedSummary();  // ASL: counts the missing rows too
+  if (!skipped.empty()) std::cerr << "iraf_vo_enhance: " << skipped << "\n";
+  else if (unreadable) std::cerr << "iraf_vo_enhance: " << unreadable << " of " << files.size() << " images skipped (unreadable)\n";
+  if (is_asl) failed += static_cast<int>(asl.missingCount() + asl.badRowCount());
+  if (failed && ms.empty()) std::cerr << "iraf_vo_enhance: no image could be read\n";
   return failed ? 1 : 0;
 }

@@ -307,6 +307,7 @@ int main(int argc, char** argv) {
       return 1;
     }
     total = asl.size();
+    for (const std::string& w : asl.warnings()) std::fprintf(stderr, "iraf_vo_run: %s\n", w.c_str());
     if (camera_path.empty()) camera_path = asl.sensorYamlPath();
   } else {
     if (topic.empty()) {
@@ -318,6 +319,7 @@ int main(int argc, char** argv) {
       return 1;
     }
     total = bag.size();
+    if (!bag.notice().empty()) std::fprintf(stderr, "iraf_vo_run: %s\n", bag.notice().c_str());
   }
   if (camera_path.empty()) {
     std::fprintf(stderr, "iraf_vo_run: no camera: pass --camera sensor.yaml\n");
@@ -496,6 +498,8 @@ int main(int argc, char** argv) {
   reader.join();
   tracker.waitForMapping();
   if (fatal) return 1;
+  const std::string skipped = is_bag ? bag.skippedSummary() : asl.skippedSummary();
+  if (!skipped.empty()) std::fprintf(stderr, "iraf_vo_run: %s\n", skipped.c_str());
   if (processed > 0 && errors == processed) {
     std::fprintf(stderr, "iraf_vo_run: --dataset %s: none of the %ld frames could be read\n", dataset.c_str(), processed);
     return 1;

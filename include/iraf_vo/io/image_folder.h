@@ -5,6 +5,7 @@
 // open() accepts DIR, DIR/mav0 or DIR/mav0/cam0. Images are loaded lazily as CV_8UC1.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <fstream>
 #include <opencv2/core.hpp>
@@ -25,6 +26,7 @@ bool toGray8(const cv::Mat& in, cv::Mat* gray, std::string* error);
 struct ImageEntry {
   int64_t stamp_ns = 0;  ///< timestamp from data.csv
   std::string path;      ///< absolute or DIR-relative path of the image file
+  int csv_line = 0;      ///< line of data.csv the entry comes from (1-based; 0 when not from a csv)
   double stamp() const { return static_cast<double>(stamp_ns) * 1e-9; }  ///< seconds
 };
 
@@ -48,7 +50,8 @@ class AslImageReader {
   /// Loads sensor.yaml with loadCamera(); nullptr + *error when absent or bad.
   CameraModelPtr loadCamera(std::string* error) const;
 
-  /// Loads entry i as CV_8UC1. false + *error (naming the file) when unreadable; never throws.
+  /// Loads entry i as CV_8UC1. false + *error ("<data.csv>:<line>: <file>: unreadable image ...") when unreadable;
+  /// each failure is counted for skippedSummary(). Never throws.
   bool loadImage(size_t i, cv::Mat* gray, std::string* error) const;
 
   /// Sequential iteration skipping unreadable images (each is added to warnings()). false at the end.
@@ -58,11 +61,21 @@ class AslImageReader {
   /// Problems found so far (csv rows, missing / unreadable images), one message each.
   const std::vector<std::string>& warnings() const { return warnings_; }
 
+  /// data.csv rows skipped by open() because their image file is missing / malformed or duplicated rows.
+  size_t missingCount() const { return missing_; }
+  size_t badRowCount() const { return bad_rows_; }
+  /// loadImage() / next() failures so far (unreadable or corrupt files).
+  size_t unreadableCount() const { return unreadable_; }
+  /// "" when nothing was skipped, else e.g. "3 of 600 data.csv rows skipped: 1 image file missing, 2 unreadable".
+  std::string skippedSummary() const;
+
  private:
   std::string root_dir_, cam_dir_;
   std::vector<ImageEntry> entries_;
   std::vector<std::string> warnings_;
   size_t cursor_ = 0;
+  size_t rows_ = 0, missing_ = 0, bad_rows_ = 0;
+  mutable std::atomic<size_t> unreadable_{0};  // loadImage() may run on a reader thread
 };
 
 /// Writes an ASL folder readable by AslImageReader: DIR/mav0/<camera>/data.csv, data/<stamp_ns>.png (lossless)

@@ -1,7 +1,8 @@
-// ROS glue (not part of the ROS-free core): sensor_msgs/Image -> 8-bit grayscale cv::Mat.
+// ROS glue (not part of the ROS-free core): sensor_msgs/Image and sensor_msgs/CompressedImage -> 8-bit grayscale cv::Mat.
 #pragma once
 
 #include <opencv2/core.hpp>
+#include <sensor_msgs/CompressedImage.h>
 #include <sensor_msgs/Image.h>
 #include <string>
 
@@ -16,5 +17,10 @@ const char* supportedEncodings();
 /// Returns false and fills `error` (naming the encoding / size problem) for anything unusable:
 /// unsupported encoding, zero width or height, data shorter than step * height.
 bool toMono8(const sensor_msgs::ImageConstPtr& msg, cv::Mat* gray, std::string* error);
+
+/// Decodes a sensor_msgs/CompressedImage (image_transport's `compressed`: jpeg or png, 8 or 16 bit, mono or
+/// colour in BGR order) with cv::imdecode into a new CV_8UC1 image (16 bit -> value / 256, colour -> gray).
+/// false + *error naming the format for empty data, garbage, or compressedDepth (not supported).
+bool toMono8(const sensor_msgs::CompressedImage& msg, cv::Mat* gray, std::string* error);
 
 }  // namespace iraf_vo
