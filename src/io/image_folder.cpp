@@ -97,7 +97,10 @@ bool AslImageReader::open(const std::string& dir_in, std::string* error, const s
   warnings_.clear();
   cursor_ = 0;
   rows_ = missing_ = bad_rows_ = 0;
-  unreadable_ = 0;
+  {
+    std::lock_guard<std::mutex> lock(unreadable_mutex_);
+    unreadable_.clear();
+  }
   const std::string dir = stripSlash(dir_in);
   // Accept DIR, DIR/mav0 and DIR/mav0/<camera> (anything holding data.csv directly).
   if (isFile(dir + "/data.csv")) {
@@ -200,20 +203,29 @@ bool AslImageReader::loadImage(size_t i, cv::Mat* gray, std::string* error) cons
   }
   std::string err;
   if (readMono8(entries_[i].path, gray, &err)) return true;
-  ++unreadable_;
+  {
+    std::lock_guard<std::mutex> lock(unreadable_mutex_);
+    unreadable_.insert(i);
+  }
   if (error) *error = cam_dir_ + "/data.csv:" + std::to_string(entries_[i].csv_line) + ": " + err;
   return false;
 }
 
+size_t AslImageReader::unreadableCount() const {
+  std::lock_guard<std::mutex> lock(unreadable_mutex_);
+  return unreadable_.size();
+}
+
 std::string AslImageReader::skippedSummary() const {
-  const size_t unreadable = unreadable_;
-  const size_t skipped = missing_ + bad_rows_ + unreadable;
-  if (skipped == 0) return "";
-  std::string s = std::to_string(skipped) + " of " + std::to_string(rows_) + " rows of " + cam_dir_ + "/data.csv skipped:";
-  const char* sep = " ";
-  if (missing_) s += sep + std::to_string(missing_) + " image file" + (missing_ > 1 ? "s" : "") + " missing", sep = ", ";
-  if (unreadable) s += sep + std::to_string(unreadable) + " unreadable", sep = ", ";
-  if (bad_rows_) s += sep + std::to_string(bad_rows_) + " malformed / duplicate row" + (bad_rows_ > 1 ? "s" : "");
+  const size_t unreadable = unreadableCount();
+  if (missing_ + bad_rows_ + unreadable == 0) return "";
+  std::vector<std::string> parts;
+  if (missing_) parts.push_back(std::to_string(missing_) + " image file" + (missing_ > 1 ? "s" : "") + " missing");
+  if (unreadable) parts.push_back(std::to_string(unreadable) + " unreadable");
+  if (bad_rows_) parts.push_back(std::to_string(bad_rows_) + " malformed / duplicate row" + (bad_rows_ > 1 ? "s" : ""));
+  std::string s = std::to_string(missing_ + bad_rows_ + unreadable) + " of " + std::to_string(rows_) + " rows of " +
+                  cam_dir_ + "/data.csv skipped: ";
+  for (size_t k = 0; k < parts.size(); ++k) s += (k ? ", " : "") + parts[k];
   return s;
 }
 

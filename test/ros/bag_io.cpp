@@ -125,6 +125,23 @@ TEST(BagIO, Tool) {
   EXPECT_NE(std::system((tool + " /nonexistent/asl '" + bag + ".2' 2>/dev/null").c_str()), 0);
   EXPECT_NE(std::system((tool + " '" + root + "' 2>/dev/null").c_str()), 0);
   EXPECT_NE(std::system((tool + " '" + root + "' '" + bag + ".3' --compression zip 2>/dev/null").c_str()), 0);
+  // --compressed: sensor_msgs/CompressedImage on TOPIC/compressed; png is lossless, jpeg close.
+  ASSERT_EQ(std::system((tool + " '" + root + "' '" + bag + ".png.bag' --topic /x/image --compressed >/dev/null").c_str()), 0);
+  readBack(bag + ".png.bag", "/x/image/compressed", expected, "tool --compressed");
+  ASSERT_EQ(std::system((tool + " '" + root + "' '" + bag + ".jpg.bag' --compressed=jpeg --jpeg-quality 90 >/dev/null").c_str()), 0);
+  BagImageReader reader;
+  std::string err;
+  ASSERT_TRUE(reader.open(bag + ".jpg.bag", "/cam0/image_raw/compressed", &err)) << err;
+  ros::Time t;
+  cv::Mat gray;
+  for (size_t n = 0; n < expected.size(); ++n) {
+    ASSERT_TRUE(reader.next(&t, &gray)) << n;
+    EXPECT_EQ(static_cast<int64_t>(t.toNSec()), kStamps[n]);
+    EXPECT_LT(cv::norm(gray, expected[n], cv::NORM_L1) / gray.total(), 40.0) << n;  // random pixels: jpeg's worst case
+  }
+  EXPECT_FALSE(reader.next(&t, &gray));
+  EXPECT_NE(std::system((tool + " '" + root + "' '" + bag + ".4' --compressed=gif 2>/dev/null").c_str()), 0);
+  EXPECT_NE(std::system((tool + " '" + root + "' '" + bag + ".5' --compressed=jpeg --jpeg-quality 0 2>/dev/null").c_str()), 0);
 }
 
 TEST(BagIO, CompressedImages) {
@@ -176,22 +193,83 @@ TEST(BagIO, BadBags) {
   ros::Time t;
   cv::Mat m;
   EXPECT_FALSE(reader.next(&t, &m));  // not open: no crash
-  // Truncated bag: the first half of a valid one.
   std::vector<cv::Mat> expected;
-  const std::string root = makeAsl(&expected);
-  ASSERT_EQ(aslToBag(root, d + "/good.bag", AslToBagOptions(), &err), 4u) << err;
-  std::ifstream in(d + "/good.bag", std::ios::binary);
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  std::ofstream(d + "/trunc.bag", std::ios::binary) << bytes.substr(0, bytes.size() / 2);
-  if (reader.open(d + "/trunc.bag", "/cam0/image_raw", &err)) {
-    while (reader.next(&t, &m)) {
-    }
-  } else {
-    EXPECT_NE(err.find("trunc.bag"), std::string::npos) << err;
-  }
+  ASSERT_EQ(aslToBag(makeAsl(&expected), d + "/good.bag", AslToBagOptions(), &err), 4u) << err;
   // Wrong topic: the error lists the image topics present.
   EXPECT_FALSE(reader.open(d + "/good.bag", "/nope", &err));
   EXPECT_NE(err.find("/cam0/image_raw"), std::string::npos) << err;
+}
+
+namespace {
+std::string readBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+void writeBytes(const std::string& path, const std::string& bytes) { std::ofstream(path, std::ios::binary) << bytes; }
+}  // namespace
+
+// A bag cut short (copy interrupted) or never indexed (recording killed): the intact messages are read, open()
+// says how many and suggests `rosbag reindex`.
+TEST(BagIO, TruncatedAndUnindexedBags) {
+  const std::string d = tmpDir("trunc");
+  std::vector<cv::Mat> expected;
+  const std::string root = makeAsl(&expected);
+  std::string err;
+  for (const std::string format : {"raw", "png"}) {
+    AslToBagOptions opt;
+    opt.image_format = format;
+    const std::string topic = format == "raw" ? "/cam0/image_raw" : "/cam0/image_raw/compressed";
+    const std::string good = d + "/good_" + format + ".bag";
+    ASSERT_EQ(aslToBag(root, good, opt, &err), 4u) << err;
+    const std::string bytes = readBytes(good);
+    // Find where the 3rd message's record starts: cut inside it -> 2 intact messages.
+    const size_t third = bytes.find("op=\x02", bytes.find("op=\x02", bytes.find("op=\x02") + 1) + 1);
+    ASSERT_NE(third, std::string::npos);
+    const std::string trunc = d + "/trunc_" + format + ".bag";
+    writeBytes(trunc, bytes.substr(0, third + 40));
+    // Unindexed: the complete chunk data but index_pos = 0 in the bag header (as a killed `rosbag record` leaves it).
+    std::string unindexed_bytes = bytes;
+    const size_t ip = unindexed_bytes.find("index_pos=");
+    ASSERT_NE(ip, std::string::npos);
+    unindexed_bytes.replace(ip + 10, 8, std::string(8, '\0'));
+    const std::string unindexed = d + "/unindexed_" + format + ".bag";
+    writeBytes(unindexed, unindexed_bytes);
+    for (const auto& c : {std::make_pair(trunc, size_t(2)), std::make_pair(unindexed, size_t(4))}) {
+      BagImageReader reader;
+      ASSERT_TRUE(reader.open(c.first, topic, &err)) << c.first << ": " << err;
+      EXPECT_EQ(reader.size(), c.second) << c.first;
+      const std::string expect_notice = "bag " + c.first + " is truncated/unindexed after " + std::to_string(c.second) +
+                                        " messages on " + topic;
+      EXPECT_NE(reader.notice().find(expect_notice), std::string::npos) << reader.notice();
+      EXPECT_NE(reader.notice().find("run `rosbag reindex " + c.first + "`"), std::string::npos) << reader.notice();
+      ros::Time stamp;
+      cv::Mat gray;
+      size_t n = 0;
+      while (reader.next(&stamp, &gray)) {
+        ASSERT_LT(n, c.second);
+        EXPECT_EQ(static_cast<int64_t>(stamp.toNSec()), kStamps[n]) << c.first;
+        EXPECT_EQ(cv::norm(gray, expected[n], cv::NORM_INF), 0.0) << c.first << " image " << n;
+        ++n;
+      }
+      EXPECT_EQ(n, c.second) << c.first;
+      EXPECT_EQ(reader.skippedSummary(), "") << c.first;
+      // The topic list of the intact part is known too.
+      const std::vector<std::string> topics = BagImageReader::imageTopics(c.first, &err);
+      ASSERT_EQ(topics.size(), 1u) << c.first;
+      EXPECT_EQ(topics[0], topic);
+    }
+    // Wrong topic on a truncated bag: error names the bag, the topics of the intact part and rosbag reindex.
+    BagImageReader reader;
+    EXPECT_FALSE(reader.open(trunc, "/nope", &err));
+    EXPECT_NE(err.find(trunc), std::string::npos) << err;
+    EXPECT_NE(err.find(topic), std::string::npos) << err;
+    EXPECT_NE(err.find("rosbag reindex"), std::string::npos) << err;
+  }
+  // Cut inside the bag header: nothing intact, a clear error.
+  writeBytes(d + "/stub.bag", readBytes(d + "/good_raw.bag").substr(0, 100));
+  BagImageReader reader;
+  EXPECT_FALSE(reader.open(d + "/stub.bag", "/cam0/image_raw", &err));
+  EXPECT_NE(err.find("stub.bag"), std::string::npos) << err;
 }
 
 int main(int argc, char** argv) {

@@ -221,3 +221,33 @@ TEST(BadCli, Degrade) {
   expectCleanFailure(run(tool("iraf_vo_degrade") + " " + missing + " " + tmpDir() + "/deg_out2 --profile dark"),
                      missing, "missing dataset");
 }
+
+// Issue 13: an ASL folder with a missing and a truncated PNG. iraf_vo_enhance and iraf_vo_run name each file with
+// its data.csv line and print how many rows were skipped; enhance exits 1 (some input not processed), run exits 0
+// (the frames are skipped, the run goes on; it fails only when no frame can be read).
+TEST(BadCli, SkippedImagesAreReported) {
+  const std::string root = makeAsl("skip", 5, 752, 480);
+  const std::string data = root + "/mav0/cam0/data/";
+  const std::string missing = std::to_string(1000000000LL + 2 * 50000000LL) + ".png";    // data.csv line 4
+  const std::string truncated = std::to_string(1000000000LL + 3 * 50000000LL) + ".png";  // data.csv line 5
+  ASSERT_EQ(::unlink((data + missing).c_str()), 0);
+  writeFile(data + truncated, pngBytes(752, 480, 4).substr(0, 300));
+  auto expectReported = [&](const auto& r, const std::string& what) {
+    EXPECT_NE(r.err.find("data.csv:4: image file missing: " + data + missing), std::string::npos) << what << "\n" << r.err;
+    EXPECT_NE(r.err.find("data.csv:5: " + data + truncated + ": unreadable image"), std::string::npos) << what << "\n" << r.err;
+    EXPECT_NE(r.err.find("2 of 5 rows of " + root + "/mav0/cam0/data.csv skipped: 1 image file missing, 1 unreadable"),
+              std::string::npos)
+        << what << "\n" << r.err;
+    EXPECT_LT(r.status, 124) << what << " crashed\n" << r.err;
+  };
+  if (exists(tool("iraf_vo_enhance"))) {
+    const auto r = run(tool("iraf_vo_enhance") + " " + root + " --no-write");
+    expectReported(r, "iraf_vo_enhance");
+    EXPECT_EQ(r.status, 1) << r.err;
+  }
+  if (exists(tool("iraf_vo_run"))) {
+    const auto r = run(tool("iraf_vo_run") + " --dataset " + root + " --out " + tmpDir() + "/skip_traj.txt --quiet");
+    expectReported(r, "iraf_vo_run");
+    EXPECT_EQ(r.status, 0) << r.err;
+  }
+}

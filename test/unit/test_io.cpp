@@ -98,8 +98,12 @@ TEST(AslImageReader, ReadsFolderReportsProblemsAndConverts) {
   ASSERT_TRUE(reader.loadImage(2, &img, &err)) << err;  // 16 bit -> 8 bit
   EXPECT_EQ(img.type(), CV_8UC1);
   EXPECT_EQ(img.at<uchar>(0, 0), 77);
+  EXPECT_EQ(reader.missingCount(), 1u);
+  EXPECT_EQ(reader.badRowCount(), 2u);
   EXPECT_FALSE(reader.loadImage(3, &img, &err));
   EXPECT_NE(err.find("1200000000.png"), std::string::npos) << err;
+  EXPECT_NE(err.find("data.csv:7: "), std::string::npos) << err;  // the data.csv line of the corrupt file
+  EXPECT_EQ(reader.unreadableCount(), 1u);
   EXPECT_FALSE(reader.loadImage(99, &img, &err));
 
   // Sequential iteration skips the corrupt image and reports it.
@@ -107,7 +111,11 @@ TEST(AslImageReader, ReadsFolderReportsProblemsAndConverts) {
   int n = 0;
   while (reader.next(&e, &img)) ++n;
   EXPECT_EQ(n, 3);
-  EXPECT_TRUE(contains(reader.warnings(), "1200000000.png: unreadable image"));
+  EXPECT_TRUE(contains(reader.warnings(), "data.csv:7: " + root + "/mav0/cam0/data/1200000000.png: unreadable image"));
+  // Summary over the 7 data rows: 1 missing, 1 unreadable (counted once: loadImage(3) above and next()), 2 malformed.
+  EXPECT_EQ(reader.unreadableCount(), 1u);
+  EXPECT_EQ(reader.skippedSummary(), "4 of 7 rows of " + root + "/mav0/cam0/data.csv skipped: 1 image file missing, "
+                                     "1 unreadable, 2 malformed / duplicate rows");
 
   CameraModelPtr cam = reader.loadCamera(&err);
   ASSERT_TRUE(cam) << err;

@@ -5,9 +5,10 @@
 // open() accepts DIR, DIR/mav0 or DIR/mav0/cam0. Images are loaded lazily as CV_8UC1.
 #pragma once
 
-#include <atomic>
 #include <cstdint>
 #include <fstream>
+#include <mutex>
+#include <set>
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
@@ -64,8 +65,8 @@ class AslImageReader {
   /// data.csv rows skipped by open() because their image file is missing / malformed or duplicated rows.
   size_t missingCount() const { return missing_; }
   size_t badRowCount() const { return bad_rows_; }
-  /// loadImage() / next() failures so far (unreadable or corrupt files).
-  size_t unreadableCount() const { return unreadable_; }
+  /// Entries that failed to load so far in loadImage() / next() (unreadable or corrupt files), each counted once.
+  size_t unreadableCount() const;
   /// "" when nothing was skipped, else e.g. "3 of 600 data.csv rows skipped: 1 image file missing, 2 unreadable".
   std::string skippedSummary() const;
 
@@ -75,7 +76,8 @@ class AslImageReader {
   std::vector<std::string> warnings_;
   size_t cursor_ = 0;
   size_t rows_ = 0, missing_ = 0, bad_rows_ = 0;
-  mutable std::atomic<size_t> unreadable_{0};  // loadImage() may run on a reader thread
+  mutable std::mutex unreadable_mutex_;  // loadImage() may run on a reader thread
+  mutable std::set<size_t> unreadable_;
 };
 
 /// Writes an ASL folder readable by AslImageReader: DIR/mav0/<camera>/data.csv, data/<stamp_ns>.png (lossless)
