@@ -317,7 +317,9 @@ def best_plane(gt_xyz):
 def mode_line(ax, x, y, m, label=None, n_markers=14, scale=1.0):
     """One mode's curve in its MODE_STYLE (markers every len/n_markers points so the line stays readable)."""
     st = MODE_STYLE[m]
-    ax.plot(x, y, linestyle=st["ls"], marker=st["marker"], markevery=max(1, len(x) // n_markers), ms=4.5 * scale,
+    step = max(1, len(x) // n_markers)
+    offset = (MODES.index(m) * step) // len(MODES)  # staggered: the modes' markers do not sit on each other
+    ax.plot(x, y, linestyle=st["ls"], marker=st["marker"], markevery=(offset, step), ms=4.5 * scale,
             lw=st["lw"] * scale, alpha=st["alpha"], zorder=st["zorder"], color=MODE_COLOR[m], mfc="none",
             mew=1.1, label=label)
 
@@ -361,7 +363,7 @@ def load_events(path):
 def mark_events(ax, events, t0, t_max):
     """Shaded span + dashed start line + label per photometric event inside [0, t_max] (time relative to t0).
     Events covering >= 90 % of the run (vignetting, noise) are listed in a corner note instead of shading it all."""
-    seen, whole, k = set(), [], 0
+    whole = []
     for kind, ts, te in events:
         a, b = max(ts - t0, 0.0), min(te - t0, t_max)
         if b <= a:
@@ -370,12 +372,11 @@ def mark_events(ax, events, t0, t_max):
             whole.append(kind)
             continue
         col = EVENT_COLOR.get(kind, "#2ca02c")
-        ax.axvspan(a, b, color=col, alpha=0.18, zorder=0, lw=0, label=None if kind in seen else "event: %s" % kind)
+        ax.axvspan(a, b, color=col, alpha=0.18, zorder=0, lw=0)
         ax.axvline(a, color=col, lw=1.0, ls="--", alpha=0.8, zorder=1)
-        ax.text(a, 0.985 - 0.055 * (k % 3), " " + kind, transform=ax.get_xaxis_transform(), fontsize=7, va="top",
-                ha="left", color="k", alpha=0.85, zorder=8)
-        seen.add(kind)
-        k += 1
+        # Vertical label at the event's start: neighbouring events do not overwrite each other.
+        ax.text(a, 0.99, kind, transform=ax.get_xaxis_transform(), fontsize=7, va="top", ha="right",
+                rotation=90, color="k", alpha=0.85, zorder=8)
     if whole:
         ax.text(0.995, 0.015, "whole run: " + ", ".join(sorted(set(whole))), transform=ax.transAxes, fontsize=7,
                 ha="right", va="bottom", alpha=0.8)
@@ -448,8 +449,8 @@ def traj_figures(out, rows, seq):
     plt.close(fig)
     figs.append((name, "Fig. 7: %s x/y/z over time of every mode vs ground truth" % seq))
 
-    # Fig. 8: APE over time, every mode. Log scale when the runs differ by more than 5x (e.g. a reset).
-    fig, ax = plt.subplots(figsize=(7.5, 4.6), dpi=110)
+    # Fig. 8: APE over time, every mode, photometric events shaded. Log scale when the runs differ by more than 5x.
+    fig, ax = plt.subplots(figsize=(7.5, 5.4), dpi=110)
     rmses = [rs[m]["ate_rmse"] for m in errs if rs[m]["ate_rmse"]]
     log_y = bool(rmses) and max(rmses) > 5 * min(rmses)
     ymax, ymin = 0.0, float("inf")
@@ -473,7 +474,7 @@ def traj_figures(out, rows, seq):
     ax.set_xlabel("time [s]")
     ax.set_ylabel("APE [m]" + (" (log)" if log_y else ""))
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7, ncol=2, loc="upper left")
+    ax.legend(fontsize=7, ncol=2, loc="upper center", bbox_to_anchor=(0.5, -0.13))
     ax.set_title("Fig. 8: %s absolute pose error over time (Sim(3)-aligned per run)" % seq, fontsize=10)
     fig.tight_layout()
     name = "fig8_ape_%s.png" % seq

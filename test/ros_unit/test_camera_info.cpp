@@ -74,38 +74,31 @@ CameraModelPtr fromInfo(const sensor_msgs::CameraInfo& info, std::string* err, b
 
 }  // namespace
 
-TEST(CameraInfo, PlumbBobMatchesEurocYaml) {
+/// The model from `info` is `model` and projects / unprojects like the one loaded from config/<yaml>.
+void expectMatchesYaml(const sensor_msgs::CameraInfo& info, const std::string& yaml, const std::string& model) {
   std::string err;
-  CameraModelPtr yaml = loadCamera(std::string(IRAF_VO_SOURCE_DIR) + "/config/euroc_cam0.yaml", &err);
-  ASSERT_TRUE(yaml) << err;
-  CameraModelPtr cam = fromInfo(eurocInfo(), &err);
-  ASSERT_TRUE(cam) << err;
-  EXPECT_EQ(cam->modelName(), "pinhole-radtan");
-  expectSameProjection(*cam, *yaml);
+  CameraModelPtr from_yaml = loadCamera(std::string(IRAF_VO_SOURCE_DIR) + "/config/" + yaml, &err);
+  ASSERT_TRUE(from_yaml) << err;
+  CameraModelPtr cam = fromInfo(info, &err);
+  ASSERT_TRUE(cam) << yaml << ": " << err;
+  EXPECT_EQ(cam->modelName(), model);
+  expectSameProjection(*cam, *from_yaml);
+}
+
+TEST(CameraInfo, PlumbBobMatchesEurocYaml) {
+  expectMatchesYaml(eurocInfo(), "euroc_cam0.yaml", "pinhole-radtan");
   // 4 coefficients (no k3) are accepted too.
   sensor_msgs::CameraInfo four = eurocInfo();
   four.D.resize(4);
-  cam = fromInfo(four, &err);
-  ASSERT_TRUE(cam) << err;
-  expectSameProjection(*cam, *yaml);
+  expectMatchesYaml(four, "euroc_cam0.yaml", "pinhole-radtan");
   // rational_polynomial with k4..k6 = 0 is the same model.
   sensor_msgs::CameraInfo rational = eurocInfo();
   rational.distortion_model = "rational_polynomial";
   rational.D.resize(8, 0.0);
-  cam = fromInfo(rational, &err);
-  ASSERT_TRUE(cam) << err;
-  expectSameProjection(*cam, *yaml);
+  expectMatchesYaml(rational, "euroc_cam0.yaml", "pinhole-radtan");
 }
 
-TEST(CameraInfo, EquidistantMatchesTumviYaml) {
-  std::string err;
-  CameraModelPtr yaml = loadCamera(std::string(IRAF_VO_SOURCE_DIR) + "/config/tumvi_cam0.yaml", &err);
-  ASSERT_TRUE(yaml) << err;
-  CameraModelPtr cam = fromInfo(tumviInfo(), &err);
-  ASSERT_TRUE(cam) << err;
-  EXPECT_EQ(cam->modelName(), "kannala-brandt");
-  expectSameProjection(*cam, *yaml);
-}
+TEST(CameraInfo, EquidistantMatchesTumviYaml) { expectMatchesYaml(tumviInfo(), "tumvi_cam0.yaml", "kannala-brandt"); }
 
 TEST(CameraInfo, RectifiedUsesP) {
   // image_proc-style camera_info: K / D of the raw camera, P of the rectified image.
