@@ -186,23 +186,18 @@ TEST(CameraInfo, CalibrationDiffers) {
   b.header.seq = 7;
   std::string what;
   EXPECT_FALSE(calibrationDiffers(a, b, &what)) << "header changes are not calibration changes";
-  b.D[0] += 1e-6;
-  EXPECT_TRUE(calibrationDiffers(a, b, &what));
-  EXPECT_EQ(what, "D");
-  b = a;
-  b.K[2] = 300.0;
-  EXPECT_TRUE(calibrationDiffers(a, b, &what));
-  EXPECT_EQ(what, "K");
-  b = a;
-  b.width = 640;
-  EXPECT_TRUE(calibrationDiffers(a, b, &what));
-  EXPECT_EQ(what, "width x height");
-  b = a;
-  b.P[0] = 1.0;
-  EXPECT_TRUE(calibrationDiffers(a, b, &what));
-  EXPECT_EQ(what, "P");
-  b = a;
-  b.distortion_model = "equidistant";
-  EXPECT_TRUE(calibrationDiffers(a, b, &what));
-  EXPECT_EQ(what, "distortion_model");
+  const std::vector<std::pair<std::string, std::function<void(sensor_msgs::CameraInfo*)>>> changes = {
+      {"D", [](sensor_msgs::CameraInfo* i) { i->D[0] += 1e-6; }},
+      {"K", [](sensor_msgs::CameraInfo* i) { i->K[2] = 300.0; }},
+      {"width x height", [](sensor_msgs::CameraInfo* i) { i->width = 640; }},
+      {"P", [](sensor_msgs::CameraInfo* i) { i->P[0] = 1.0; }},
+      {"distortion_model", [](sensor_msgs::CameraInfo* i) { i->distortion_model = "equidistant"; }},
+      {"binning", [](sensor_msgs::CameraInfo* i) { i->binning_y = 2; }},
+  };
+  for (const auto& c : changes) {
+    sensor_msgs::CameraInfo changed = a;
+    c.second(&changed);
+    EXPECT_TRUE(calibrationDiffers(a, changed, &what)) << c.first;
+    EXPECT_EQ(what, c.first);
+  }
 }
