@@ -10,7 +10,7 @@ MotionPreset motionPreset(MotionKind motion) {
     case MotionKind::kDrive:
       // KITTI: 10 Hz, ~1 m between frames; short exposure in daylight.
       p.camera = "kitti", p.rate_hz = 10.0, p.frames = 100;
-      p.motion_blur_samples = 3, p.exposure_time_s = 0.002, p.texels_per_m = 128.0;
+      p.motion_blur_samples = 3, p.exposure_time_s = 0.002, p.texels_per_m = 128.0, p.brightness = 1.5;
       break;
     case MotionKind::kSlider:
       // 1 m of travel at 0.25 m/s = 100 frames at 25 Hz; indoor exposure.
@@ -18,7 +18,7 @@ MotionPreset motionPreset(MotionKind motion) {
       p.motion_blur_samples = 3, p.exposure_time_s = 0.01, p.texels_per_m = 512.0;
       break;
     case MotionKind::kHandheldFast:
-      p.frames = 300, p.motion_blur_samples = 4, p.exposure_time_s = 0.008;
+      p.frames = 300, p.motion_blur_samples = 4, p.exposure_time_s = 0.008, p.brightness = 1.6;
       break;
   }
   return p;

@@ -155,6 +155,7 @@ int main(int argc, char** argv) {
   if (!set_blur) sim.motion_blur_samples = mp.motion_blur_samples;
   if (!set_exposure) sim.exposure_time_s = mp.exposure_time_s;
   scene_params.texels_per_m = mp.texels_per_m;
+  sim.brightness = mp.brightness;
   const std::string terr = iraf_vo::validate(traj);
   if (!terr.empty()) {
     std::cerr << "iraf_vo_simulate: trajectory: " << terr << "\n";

@@ -22,6 +22,8 @@ struct MotionPreset {
   int motion_blur_samples = 1;
   double exposure_time_s = 0.01;
   double texels_per_m = 256.0;
+  double brightness = 1.25;  // SimParams::brightness (exposure): drive / handheld_fast mean grey ~100-120 like
+                             // KITTI / EuRoC frames
 };
 
 /// The defaults of a motion (table above). traj.motion is set; every other trajectory field keeps its default.

@@ -47,7 +47,7 @@ struct TrajectoryParams {
   double roll_amplitude_deg = 4.0;
   double start_phase = 0.0;        // loop phase (rad) at t = 0
   // handheld_fast: extra hand rotations (amplitude deg, frequency Hz; peak rate = 2 pi f A)
-  double hand_yaw_deg = 13.0, hand_yaw_hz = 0.42;
+  double hand_yaw_deg = 12.0, hand_yaw_hz = 0.42;
   double hand_pitch_deg = 7.0, hand_pitch_hz = 0.61;
   double hand_roll_deg = 5.0, hand_roll_hz = 0.33;
 
