@@ -9,22 +9,13 @@ of the path (issue 11). Writes OUT/scenarios.md and OUT/scenarios_table.csv.
 """
 import argparse
 import csv
-import json
 import math
 import os
 import sys
 
 
-def die(msg):
-    print("sim_scenarios.py: " + msg, file=sys.stderr)
-    sys.exit(2)
-
-
-def load_json(path):
-    if not path or not os.path.isfile(path):
-        return None
-    with open(path) as f:
-        return json.load(f)
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from report import die, load_json  # noqa: E402  (scripts/report.py: same error handling)
 
 
 def read_gt(path):
@@ -75,40 +66,38 @@ def camera_of(asl):
     return "%s %s" % (model, res)
 
 
+def scenario_row(r, st, ev):
+    """One table row from an index row, its iraf_vo_run stats and iraf_vo_eval json."""
+    gt = read_gt(r["gt"])
+    start = motion_start(gt)
+    flog = r["traj"][:-len(".txt")] + ".frames.csv"
+    tracked = [s == "tracking" for s in frame_states(flog)] if os.path.isfile(flog) else []
+    after = tracked[start + 5:]
+    ate = (ev or {}).get("ate", {}).get("rmse", st.get("ate_rmse"))
+    length = path_length(gt)
+    row = {
+        "sequence": r["sequence"], "mode": r["mode"], "camera": camera_of(r["path"]),
+        "frames": len(tracked) or st.get("frames"), "motion_start": start,
+        "first_init": next((i for i, t in enumerate(tracked) if t), None),
+        "static_tracked": sum(tracked[:start + 1]) if start > 0 else None,
+        "tracked_after_pct": 100.0 * sum(after) / len(after) if after else None,
+        "lost_events": st.get("lost_events"), "resets": st.get("resets"), "ate_rmse": ate,
+        "path_m": length, "ate_pct": 100.0 * ate / length if ate is not None and length > 0 else None,
+    }
+    row["pass"] = (row["tracked_after_pct"] is not None and row["tracked_after_pct"] >= 95.0
+                   and row["ate_pct"] is not None and row["ate_pct"] <= 1.0)
+    return row
+
+
 def collect(out):
-    index = os.path.join(out, "scenarios.csv")
-    if not os.path.isfile(index):
-        die("%s missing: run scripts/reproduce.sh first" % index)
-    rows = []
-    with open(index) as f:
-        for r in csv.DictReader(f):
-            st = load_json(r["stats"])
-            if st is None:
-                continue
-            ev = load_json(r["eval_json"])
-            gt = read_gt(r["gt"])
-            start = motion_start(gt)
-            flog = r["traj"][:-len(".txt")] + ".frames.csv"
-            states = frame_states(flog) if os.path.isfile(flog) else []
-            tracked = [s == "tracking" for s in states]
-            first_init = next((i for i, t in enumerate(tracked) if t), None)
-            after = tracked[start + 5:]
-            ate = (ev or {}).get("ate", {}).get("rmse", st.get("ate_rmse"))
-            length = path_length(gt)
-            static_tracked = sum(tracked[:start + 1]) if start > 0 else None
-            row = {
-                "sequence": r["sequence"], "mode": r["mode"], "camera": camera_of(r["path"]),
-                "frames": len(states) or st.get("frames"), "motion_start": start, "first_init": first_init,
-                "static_tracked": static_tracked,
-                "tracked_after_pct": 100.0 * sum(after) / len(after) if after else None,
-                "lost_events": st.get("lost_events"), "resets": st.get("resets"), "ate_rmse": ate,
-                "path_m": length, "ate_pct": 100.0 * ate / length if ate is not None and length > 0 else None,
-            }
-            row["pass"] = (row["tracked_after_pct"] is not None and row["tracked_after_pct"] >= 95.0
-                           and row["ate_pct"] is not None and row["ate_pct"] <= 1.0)
-            rows.append(row)
+    path = os.path.join(out, "scenarios.csv")
+    if not os.path.isfile(path):
+        die("%s missing: run scripts/reproduce.sh first" % path)
+    with open(path) as f:
+        runs = [(r, load_json(r["stats"])) for r in csv.DictReader(f)]
+    rows = [scenario_row(r, st, load_json(r["eval_json"])) for r, st in runs if st is not None]
     if not rows:
-        die("no finished scenario run in %s" % index)
+        die("no finished scenario run in %s" % path)
     return rows
 
 
