@@ -36,7 +36,7 @@ void usage(std::ostream& os) {
   os << "usage: iraf_vo_simulate --preset " << iraf_vo::photometricPresetNames() << " --out DIR\n"
         "         [--motion " << iraf_vo::motionKindNames() << " (room)] [--static-start SEC (0)]\n"
         "         [--frames N] [--rate HZ] [--camera pinhole|fisheye|kitti|davis240|path/to/sensor.yaml]\n"
-        "         [--width W --height H] [--seed S] [--speed X (room/handheld_fast: loop rate, 1 = one loop in 20 s)]\n"
+        "         [--width W --height H] [--seed S] [--speed X (speed factor: loop rate, drive / slider speed)]\n"
         "         [--supersample S (1..4)] [--motion-blur K (sub-frame renders)] [--exposure SEC]\n"
         "         [--bag OUT.bag] [--threads N (0 = all cores)] [--no-photos]\n"
         "         [--depth (also OUT/mav0/depth0: 16-bit PNG z-depth in mm)]\n"
@@ -147,7 +147,9 @@ int main(int argc, char** argv) {
   const iraf_vo::MotionPreset mp = iraf_vo::motionPreset(motion);
   const double speed = traj.speed;
   traj = mp.traj;
-  traj.speed = speed;
+  traj.speed = speed;  // loop rate (room, handheld_fast); the drive and slider speeds scale with it too
+  traj.drive_speed_mps *= speed;
+  traj.slider_speed_mps *= speed;
   traj.static_start_s = static_start;
   if (!set_camera) sim.camera = mp.camera;
   if (!set_frames) sim.frames = mp.frames;

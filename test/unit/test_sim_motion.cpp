@@ -2,10 +2,18 @@
 // frame, lateral-only slider, zero motion during a static start), and each preset's camera / rate.
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
+
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
 #include <stdexcept>
 #include <vector>
 
+#include "iraf_vo/camera/camera_loader.h"
+#include "iraf_vo/io/trajectory.h"
 #include "iraf_vo/sim/motion_preset.h"
 #include "iraf_vo/sim/scene_presets.h"
 #include "iraf_vo/sim/sequence.h"
@@ -190,6 +198,51 @@ TEST(SimMotion, DrivePathIsArcLengthParameterized) {
     prev = p;
   }
   EXPECT_NEAR(len, 100.0, 0.05);
+}
+
+#include "common/tmp_dir.h"
+
+int run(const std::string& cmd) {
+  const int rc = std::system((cmd + " > /dev/null 2>&1").c_str());
+  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+std::vector<std::string> dataLines(const std::string& path) {
+  std::ifstream f(path);
+  std::vector<std::string> out;
+  for (std::string line; std::getline(f, line);)
+    if (!line.empty() && line[0] != '#') out.push_back(line);
+  return out;
+}
+
+TEST(SimMotion, ToolWritesTheMotionsCameraRateAndStaticStart) {
+  const std::string bin = IRAF_VO_BIN_DIR;
+  if (!std::filesystem::exists(bin + "/iraf_vo_simulate")) GTEST_SKIP() << "iraf_vo_simulate not built in " << bin;
+  const std::string out = tmpRoot() + "sim_motion_slider";
+  std::filesystem::remove_all(out);
+  ASSERT_EQ(run(bin + "/iraf_vo_simulate --preset clean --motion slider --frames 6 --static-start 0.1 --no-photos --out " +
+                out), 0);
+  // The calibration iraf_vo_run --dataset reads: the slider's camera.
+  std::string err;
+  auto cam = iraf_vo::loadCamera(out + "/mav0/cam0/sensor.yaml", &err);
+  ASSERT_TRUE(cam) << err;
+  EXPECT_EQ(cam->width(), 240);
+  EXPECT_EQ(cam->height(), 180);
+  EXPECT_DOUBLE_EQ(cam->parameters()[4], -0.1);
+  const auto rows = dataLines(out + "/mav0/cam0/data.csv");
+  ASSERT_EQ(rows.size(), 6u);
+  EXPECT_EQ(std::stoll(rows[1]) - std::stoll(rows[0]), 40000000LL) << "25 Hz";
+  // Static for 0.1 s: frames 0-2 (t = 0, 0.04, 0.08) at the same pose, frame 5 moved.
+  iraf_vo::Trajectory gt;
+  ASSERT_TRUE(iraf_vo::readTumTrajectory(out + "/groundtruth.txt", &gt, &err)) << err;
+  ASSERT_EQ(gt.size(), 6u);
+  EXPECT_EQ((gt.poses[1].matrix() - gt.poses[0].matrix()).norm(), 0.0);
+  EXPECT_EQ((gt.poses[2].matrix() - gt.poses[0].matrix()).norm(), 0.0);
+  EXPECT_GT((gt.poses[5].translation() - gt.poses[0].translation()).norm(), 1e-4);
+  // Bad options: non-zero exit.
+  EXPECT_NE(run(bin + "/iraf_vo_simulate --preset clean --motion walk --out " + out + "x"), 0);
+  EXPECT_NE(run(bin + "/iraf_vo_simulate --preset clean --static-start -1 --out " + out + "x"), 0);
+  EXPECT_NE(run(bin + "/iraf_vo_simulate --preset clean --rate 0 --out " + out + "x"), 0);
 }
 
 }  // namespace
