@@ -9,7 +9,7 @@
 #                        [--scenario-preset clean|dark|...] [--no-scenarios]
 #                        [--dataset PATH [--topic T] [--gt GT] [--camera sensor.yaml]] ...
 #
-# Sequences (default set, ~10 min on the 2-core development machine):
+# Sequences (default set, ~13 min on the 2-core development machine, + ~4 min once to simulate the scenarios):
 #   sim_<preset>   iraf_vo_simulate presets clean, dark, flicker, mixed, overexposed (--sim-frames, default 300)
 #   euroc_*        ../shared/data/euroc_mh01_600 beside the checkout (if present), frames 0-305 (the moving part):
 #                  clean and degraded with iraf_vo_degrade profiles dark and mixed (+ flicker, overexposed with --full;
