@@ -5,14 +5,26 @@
 #
 #   scripts/reproduce.sh [--out DIR] [--full] [--sim-frames N] [--euroc-frames N] [--modes "baseline he ..."]
 #                        [--presets "clean dark ..."] [--no-sim] [--no-euroc] [--threaded]
+#                        [--scenarios "drive slider ..."] [--scenario-modes "iraf ..."] [--scenario-frames N]
+#                        [--scenario-preset clean|dark|...] [--no-scenarios]
 #                        [--dataset PATH [--topic T] [--gt GT] [--camera sensor.yaml]] ...
 #
-# Sequences (default set, ~10 min on the 2-core development machine):
+# Sequences (default set, ~13 min on the 2-core development machine, + ~4 min once to simulate the scenarios):
 #   sim_<preset>   iraf_vo_simulate presets clean, dark, flicker, mixed, overexposed (--sim-frames, default 300)
 #   euroc_*        ../shared/data/euroc_mh01_600 beside the checkout (if present), frames 0-305 (the moving part):
 #                  clean and degraded with iraf_vo_degrade profiles dark and mixed (+ flicker, overexposed with --full;
 #                  the profiles' events span all 600 frames, so e.g. flicker starts at frame 300)
 #   any --dataset  ASL folder or rosbag (with --topic); --gt for ATE; --camera for bags
+# Scenarios (other cameras and motions, iraf_vo_simulate --motion; run in --scenario-modes, default iraf only;
+# each motion's default length unless --scenario-frames; photometric --scenario-preset, default clean):
+#   drive                  street, KITTI-like 1241x376 pinhole, 10 Hz, ~1 m/frame, gentle turns (100 frames)
+#   slider                 pure sideways translation past objects at 0.3-1 m, 240x180, 25 Hz (100 frames)
+#   handheld_fast          room, up to 3 deg/frame with motion blur, EuRoC pinhole 752x480, 20 Hz (300 frames)
+#   handheld_fast_fisheye  the same with the TUM-VI Kannala-Brandt 512x512 camera
+#   static_start           room loop after standing still for 2 s (300 frames, the first 40 static)
+#   fisheye                the --presets (clean dark ...) with the fisheye camera (--sim-frames)
+#   -> scenarios.md / scenarios.csv (tracked % after the first 5 frames of motion, first initialized frame,
+#      ATE RMSE and ATE in % of the ground-truth path; pass = >= 95 % and <= 1 %), appended to report.md.
 # Modes: baseline he clahe enhance adaptive culling iraf.
 # Mapping runs inside the tracking thread (--set tracker.mapping_thread=false): results do not depend on the
 # machine's load (deterministic up to floating point); --threaded uses the mapping thread instead.
@@ -33,6 +45,10 @@ euroc_profiles="dark mixed"
 do_sim=1
 do_euroc=1
 threaded=0
+scenarios="drive slider handheld_fast handheld_fast_fisheye static_start fisheye"
+scenario_modes="iraf"
+scenario_frames=0
+scenario_preset=clean
 declare -a ext_paths=() ext_topics=() ext_gts=() ext_cams=()
 
 die() { echo "reproduce.sh: $*" >&2; exit 2; }
@@ -49,6 +65,11 @@ while [[ $# -gt 0 ]]; do
     --no-sim) do_sim=0; shift ;;
     --no-euroc) do_euroc=0; shift ;;
     --threaded) threaded=1; shift ;;
+    --scenarios) need "$@"; scenarios="$2"; shift 2 ;;
+    --scenario-modes) need "$@"; scenario_modes="$2"; shift 2 ;;
+    --scenario-frames) need "$@"; scenario_frames="$2"; shift 2 ;;
+    --scenario-preset) need "$@"; scenario_preset="$2"; shift 2 ;;
+    --no-scenarios) scenarios=""; shift ;;
     --dataset) need "$@"; ext_paths+=("$2"); ext_topics+=(""); ext_gts+=(""); ext_cams+=(""); shift 2 ;;
     --topic|--gt|--camera)
       need "$@"; [[ ${#ext_paths[@]} -gt 0 ]] || die "$1 must follow a --dataset"
@@ -63,9 +84,15 @@ if [[ -z "$euroc_frames" ]]; then euroc_frames=306; [[ $full == 1 ]] && euroc_fr
 if [[ -z "$sim_frames" ]]; then sim_frames=300; [[ $full == 1 ]] && sim_frames=400; fi
 [[ "$sim_frames" =~ ^[0-9]+$ && "$sim_frames" -ge 60 ]] || die "--sim-frames '$sim_frames': expected an integer >= 60"
 [[ $full == 1 ]] && euroc_profiles="dark mixed flicker overexposed"
-for m in $modes; do
+for m in $modes $scenario_modes; do
   case "$m" in baseline|he|clahe|enhance|adaptive|culling|iraf) ;; *) die "--modes: unknown mode '$m'" ;; esac
 done
+for sc in $scenarios; do
+  case "$sc" in drive|slider|handheld_fast|handheld_fast_fisheye|static_start|fisheye) ;;
+    *) die "--scenarios: unknown scenario '$sc'" ;; esac
+done
+[[ "$scenario_frames" =~ ^[0-9]+$ && ( "$scenario_frames" == 0 || "$scenario_frames" -ge 30 ) ]] \
+  || die "--scenario-frames '$scenario_frames': expected 0 (motion default) or an integer >= 30"
 for k in "${!ext_paths[@]}"; do
   [[ -e "${ext_paths[$k]}" ]] || die "--dataset ${ext_paths[$k]}: no such file or folder"
   [[ -z "${ext_gts[$k]}" || -e "${ext_gts[$k]}" ]] || die "--gt ${ext_gts[$k]}: no such file"
@@ -127,13 +154,55 @@ for k in "${!ext_paths[@]}"; do
   name="ext$((k + 1))_$(basename "${ext_paths[$k]}" | tr -c 'A-Za-z0-9_\n-' '_')"
   seqs+=("$name|${ext_paths[$k]}|${ext_gts[$k]}|0||${ext_topics[$k]}|${ext_cams[$k]}")
 done
-[[ ${#seqs[@]} -gt 0 ]] || die "no sequences to run"
+# ---- scenarios: other cameras and motions (iraf_vo_simulate --motion), run in --scenario-modes ----
+# simulate NAME ARGS...: generates $out/data/NAME once (cached with .done), adds it to scen.
+declare -a scen=()
+simulate() {
+  local name="$1"
+  shift
+  local d="$out/data/$name"
+  if [[ ! -f "$d/.done" ]]; then
+    log "simulating $name ($*) -> $d"
+    rm -rf "$d"
+    "$bin/iraf_vo_simulate" --preset "$scenario_preset" --out "$d" "$@" > "$out/data/$name.log" 2>&1 \
+      || { cat "$out/data/$name.log" >&2; die "iraf_vo_simulate $* failed"; }
+    touch "$d/.done"
+  fi
+  scen+=("$name|$d|$d/groundtruth.txt|0|||")
+}
+sf=()
+[[ "$scenario_frames" != 0 ]] && sf=(--frames "$scenario_frames")
+sp_tag="" && [[ "$scenario_preset" != clean ]] && sp_tag="_$scenario_preset"
+for sc in $scenarios; do
+  case "$sc" in
+    drive|slider|handheld_fast) simulate "sim_$sc$sp_tag" --motion "$sc" "${sf[@]}" ;;
+    handheld_fast_fisheye) simulate "sim_$sc$sp_tag" --motion handheld_fast --camera fisheye "${sf[@]}" ;;
+    static_start)
+      ssf=$scenario_frames && [[ $ssf == 0 ]] && ssf=300
+      simulate "sim_$sc$sp_tag" --motion room --static-start 2 --frames "$ssf" ;;
+    fisheye)
+      for p in $presets; do
+        [[ "$p" == clean || "$p" == dark || "$p" == flicker || "$p" == mixed || "$p" == overexposed ]] || continue
+        d="$out/data/sim_${p}_fisheye_$sim_frames"
+        if [[ ! -f "$d/.done" ]]; then
+          log "simulating preset $p with the fisheye camera ($sim_frames frames) -> $d"
+          rm -rf "$d"
+          "$bin/iraf_vo_simulate" --preset "$p" --camera fisheye --out "$d" --frames "$sim_frames" \
+            > "$out/data/sim_${p}_fisheye.log" 2>&1 || { cat "$out/data/sim_${p}_fisheye.log" >&2; die "iraf_vo_simulate --preset $p --camera fisheye failed"; }
+          touch "$d/.done"
+        fi
+        scen+=("sim_${p}_fisheye|$d|$d/groundtruth.txt|0|||")
+      done ;;
+  esac
+done
+[[ $(( ${#seqs[@]} + ${#scen[@]} )) -gt 0 ]] || die "no sequences to run"
 
 # ---- runs ----
 extra=()
 [[ $threaded == 0 ]] && extra=(--set tracker.mapping_thread=false)
 echo "mapping: $([[ $threaded == 0 ]] && echo 'synchronous (tracker.mapping_thread=false)' || echo 'threaded')" > "$out/settings.txt"
 echo "sim_frames: $sim_frames" >> "$out/settings.txt"
+echo "scenarios: ${scenarios:-none} (modes: $scenario_modes, frames: $([[ $scenario_frames == 0 ]] && echo 'motion default' || echo "$scenario_frames"), photometric preset: $scenario_preset)" >> "$out/settings.txt"
 echo "euroc_frames: $euroc_frames" >> "$out/settings.txt"
 echo "machine: $(nproc) cores, $(uname -m), load at start: $(cut -d' ' -f1-3 /proc/loadavg)" >> "$out/settings.txt"
 echo "command: scripts/reproduce.sh $orig_args" >> "$out/settings.txt"
@@ -141,41 +210,52 @@ echo "command: scripts/reproduce.sh $orig_args" >> "$out/settings.txt"
 echo "sequence,mode,path,gt,traj,stats,eval_json,errors_csv,first,frames,wall_s" > "$out/index.csv"
 n_modes=$(wc -w <<< "$modes")
 n_seq=${#seqs[@]}
-total=$(( n_seq * n_modes ))
+total=$(( n_seq * n_modes + ${#scen[@]} * $(wc -w <<< "$scenario_modes") ))
+echo "sequence,mode,path,gt,traj,stats,eval_json,errors_csv,first,frames,wall_s" > "$out/scenarios.csv"
 run_i=0
+# run_one INDEX_CSV NAME PATH GT FIRST FRAMES TOPIC CAMERA MODE: one iraf_vo_run (+ iraf_vo_eval) -> index row.
+run_one() {
+  local index="$1" name="$2" path="$3" gt="$4" first="$5" frames="$6" topic="$7" cam="$8" m="$9"
+  mkdir -p "$out/runs/$name"
+  run_i=$((run_i + 1))
+  local r="$out/runs/$name/$m"
+  local args=(--dataset "$path" --out "$r.txt" --stats "$r.json" --mode "$m" --quiet --first "$first"
+              --frame-log "$r.frames.csv")
+  [[ -n "$frames" ]] && args+=(--frames "$frames")
+  [[ -n "$topic" ]] && args+=(--topic "$topic")
+  [[ -n "$cam" ]] && args+=(--camera "$cam")
+  [[ -n "$gt" ]] && args+=(--gt "$gt")
+  printf '[%4ds] run %d/%d  sequence %s  mode %-8s ... ' $(( $(date +%s) - t_start )) "$run_i" "$total" "$name" "$m"
+  local t0
+  t0=$(date +%s%N)
+  if ! "$bin/iraf_vo_run" "${args[@]}" "${extra[@]}" > "$r.log" 2>&1; then
+    echo "FAILED (see $r.log)"
+    return 0
+  fi
+  local wall_ms=$(( ($(date +%s%N) - t0) / 1000000 ))
+  local wall
+  wall=$(printf '%d.%03d' $((wall_ms / 1000)) $((wall_ms % 1000)))
+  local ej="" ec=""
+  if [[ -n "$gt" && -s "$r.txt" ]]; then
+    local camargs=()
+    if [[ -n "$cam" ]]; then camargs=(--camera "$cam")
+    elif [[ -f "$path/mav0/cam0/sensor.yaml" ]]; then camargs=(--camera "$path/mav0/cam0/sensor.yaml"); fi
+    if "$bin/iraf_vo_eval" "$gt" "$r.txt" --align sim3 --json "$r.eval.json" --csv "$r.errors.csv" "${camargs[@]}" \
+         > "$r.eval.log" 2>&1; then
+      ej="$r.eval.json" ec="$r.errors.csv"
+    fi
+  fi
+  echo "$name,$m,$path,$gt,$r.txt,$r.json,$ej,$ec,$first,$frames,$wall" >> "$index"
+  python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); print("tracked %.1f %%, lost %d, ATE %s, %.1f ms/frame CPU, %ss wall" % (d["tracked_pct"], d["lost_events"], ("%.4f m" % d["ate_rmse"]) if "ate_rmse" in d else "-", d["cpu_ms_per_frame"], sys.argv[2]))' "$r.json" "$(printf '%.0f' "$wall")" \
+    || echo "done"
+}
 for s in "${seqs[@]}"; do
   IFS='|' read -r name path gt first frames topic cam <<< "$s"
-  mkdir -p "$out/runs/$name"
-  for m in $modes; do
-    run_i=$((run_i + 1))
-    r="$out/runs/$name/$m"
-    args=(--dataset "$path" --out "$r.txt" --stats "$r.json" --mode "$m" --quiet --first "$first")
-    [[ -n "$frames" ]] && args+=(--frames "$frames")
-    [[ -n "$topic" ]] && args+=(--topic "$topic")
-    [[ -n "$cam" ]] && args+=(--camera "$cam")
-    [[ -n "$gt" ]] && args+=(--gt "$gt")
-    printf '[%4ds] run %d/%d  sequence %s  mode %-8s ... ' $(( $(date +%s) - t_start )) "$run_i" "$total" "$name" "$m"
-    t0=$(date +%s%N)
-    if ! "$bin/iraf_vo_run" "${args[@]}" "${extra[@]}" > "$r.log" 2>&1; then
-      echo "FAILED (see $r.log)"
-      continue
-    fi
-    wall_ms=$(( ($(date +%s%N) - t0) / 1000000 ))
-    wall=$(printf '%d.%03d' $((wall_ms / 1000)) $((wall_ms % 1000)))
-    ej="" ec=""
-    if [[ -n "$gt" && -s "$r.txt" ]]; then
-      camargs=()
-      if [[ -n "$cam" ]]; then camargs=(--camera "$cam")
-      elif [[ -f "$path/mav0/cam0/sensor.yaml" ]]; then camargs=(--camera "$path/mav0/cam0/sensor.yaml"); fi
-      if "$bin/iraf_vo_eval" "$gt" "$r.txt" --align sim3 --json "$r.eval.json" --csv "$r.errors.csv" "${camargs[@]}" \
-           > "$r.eval.log" 2>&1; then
-        ej="$r.eval.json" ec="$r.errors.csv"
-      fi
-    fi
-    echo "$name,$m,$path,$gt,$r.txt,$r.json,$ej,$ec,$first,$frames,$wall" >> "$out/index.csv"
-    python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); print("tracked %.1f %%, lost %d, ATE %s, %.1f ms/frame CPU, %ss wall" % (d["tracked_pct"], d["lost_events"], ("%.4f m" % d["ate_rmse"]) if "ate_rmse" in d else "-", d["cpu_ms_per_frame"], sys.argv[2]))' "$r.json" "$(printf '%.0f' "$wall")" \
-      || echo "done"
-  done
+  for m in $modes; do run_one "$out/index.csv" "$name" "$path" "$gt" "$first" "$frames" "$topic" "$cam" "$m"; done
+done
+for s in "${scen[@]}"; do
+  IFS='|' read -r name path gt first frames topic cam <<< "$s"
+  for m in $scenario_modes; do run_one "$out/scenarios.csv" "$name" "$path" "$gt" 0 "" "" "" "$m"; done
 done
 
 # ---- figure inputs ----
@@ -213,5 +293,13 @@ done
 [[ $n_fig4 -gt 0 ]] || log "no dark sequence: Fig. 4 skipped"
 
 log "writing the report"
-python3 "$here/report.py" --out "$out"
+if [[ ${#seqs[@]} -gt 0 ]]; then
+  python3 "$here/report.py" --out "$out"
+else
+  : > "$out/report.md"
+fi
+if [[ ${#scen[@]} -gt 0 ]]; then
+  python3 "$here/sim_scenarios.py" --out "$out"
+  cat "$out/scenarios.md" >> "$out/report.md"
+fi
 log "done: $out/report.md"

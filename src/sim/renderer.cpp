@@ -247,6 +247,8 @@ void Renderer::renderSpan(const Eigen::Matrix3f& R, const Eigen::Vector3f& o, in
   // Pass 3: hit point, surface coordinates, Lambertian shading, footprint in texels.
   const SceneParams& sp = scene.params();
   const float lx = sp.light_x, ly = sp.light_y, lz = sp.light_z, amb = sp.ambient;
+  const float inv_range2 = static_cast<float>(1.0 / (sp.light_range_m * sp.light_range_m));
+  const float sky_on = sp.ceiling_shade > 0.0 ? 1.f : 0.f, sky_shade = static_cast<float>(sp.ceiling_shade);
   const float tpm = sp.texels_per_m;
   const float* __restrict fpp = footprint_.data() + p0;
   const float uo_x = 0.5f * ext.y(), uo_y = 0.5f * ext.x(), vo_wall = ext.z(), vo_floor = 0.5f * ext.y();
@@ -274,9 +276,10 @@ void Renderer::renderSpan(const Eigen::Matrix3f& R, const Eigen::Vector3f& o, in
     const float d2 = Lx * Lx + Ly * Ly + Lz * Lz;
     const float ndotl = nsgn * (e0 * Lx + e1 * Ly + e2 * Lz);
     const float cosang = 0.5f * (ndotl + std::fabs(ndotl)) * rsqrt(d2 + 1e-12f);  // max(0, n.l) / |l|
-    const float lin = cosang * 1.6f / (1.f + d2 * (1.f / 9.f));
+    const float lin = cosang * 1.6f / (1.f + d2 * inv_range2);
     const float direct = 0.5f * (lin + 1.f - std::fabs(lin - 1.f));  // min(1, lin)
-    shade[i] = amb + (1.f - amb) * direct;
+    const float sky = sky_on * static_cast<float>(surf[i] == 5);      // emissive ceiling (int compare)
+    shade[i] = amb + (1.f - amb) * direct + sky * (sky_shade - amb - (1.f - amb) * direct);
     const float ada = std::fabs(da);
     const float cosi = 0.5f * (ada + 0.05f + std::fabs(ada - 0.05f));  // max(0.05, |da|)
     const float fpt = tt * fpp[i] * tpm * rsqrt(cosi);  // footprint in level-0 texels

@@ -159,6 +159,7 @@ Scene::Scene(const SceneParams& params, std::vector<SceneTexture> textures, std:
   if (!(params.room_x > 0 && params.room_y > 0 && params.room_z > 0))
     throw std::invalid_argument("Scene: room_x, room_y and room_z must be > 0");
   if (textures_.size() < 6) throw std::invalid_argument("Scene: needs at least 6 textures (room faces)");
+  if (!(params.light_range_m > 0)) throw std::invalid_argument("Scene: light_range_m must be > 0");
   for (const auto& b : boxes_)
     if (b.texture < 0 || b.texture >= static_cast<int>(textures_.size()) || !(b.lo.array() < b.hi.array()).all())
       throw std::invalid_argument("Scene: box with a bad texture index or lo >= hi");
@@ -167,7 +168,7 @@ Scene::Scene(const SceneParams& params, std::vector<SceneTexture> textures, std:
   light_ = Eigen::Vector3f(params.light_x, params.light_y, params.light_z);
 }
 
-Scene Scene::makeDefaultRoom(const SceneParams& p) {
+std::vector<cv::Mat> makeRoomAlbedo(const SceneParams& p, double poster_top_m, int* posters_out) {
   const double tpm = p.texels_per_m;
   const int wx = nextPow2(p.room_x * tpm), wy = nextPow2(p.room_y * tpm), wz = nextPow2(p.room_z * tpm);
   // Room faces: 0/1 walls at x = -/+ (u along y, v down), 2/3 walls at y = -/+ (u along x), 4 floor, 5 ceiling.
@@ -177,7 +178,7 @@ Scene Scene::makeDefaultRoom(const SceneParams& p) {
       makeProceduralTexture(wx, wy, tpm, p.seed * 16 + 4), makeProceduralTexture(wx, wy, tpm, p.seed * 16 + 5)};
   int posters = 0;
   if (!p.photo_dir.empty()) {
-    // Real photos from Debian's opencv-doc (if installed): two per wall, eye height.
+    // Real photos from Debian's opencv-doc (if installed): two per wall.
     const char* names[] = {"graf1.png", "leuvenA.jpg", "building.jpg", "home.jpg", "box_in_scene.png", "left01.jpg",
                            "sudoku.png", "stuff.jpg", "aero1.jpg", "board.jpg", "starry_night.jpg", "fruits.jpg"};
     cv::RNG rng(p.seed * 7919 + 3);
@@ -189,16 +190,22 @@ Scene Scene::makeDefaultRoom(const SceneParams& p) {
         if (!fileExists(path)) continue;
         const double width_m = rng.uniform(0.7, 1.2);
         const double u = (j + 0.5) * len / 2 - width_m / 2 + rng.uniform(-0.3, 0.3);
-        const double v = p.room_z - rng.uniform(1.9, 2.3);  // top edge 1.9-2.3 m above the floor
-        if (pastePoster(path, std::max(0.1, u), v, width_m, tpm, &albedo[face])) ++posters;
+        const double v = p.room_z - poster_top_m - rng.uniform(0.0, 0.4);  // top edge above the floor
+        if (pastePoster(path, std::max(0.1, u), std::max(0.05, v), width_m, tpm, &albedo[face])) ++posters;
       }
     }
   }
-  std::vector<SceneTexture> tex;
-  for (const auto& a : albedo) tex.emplace_back(a, static_cast<float>(tpm));
   const int box_tex = static_cast<int>(nextPow2(2.0 * tpm));
-  for (int i = 0; i < 4; ++i)
-    tex.emplace_back(makeProceduralTexture(box_tex, box_tex, tpm, p.seed * 16 + 6 + i), static_cast<float>(tpm));
+  for (int i = 0; i < 4; ++i) albedo.push_back(makeProceduralTexture(box_tex, box_tex, tpm, p.seed * 16 + 6 + i));
+  if (posters_out) *posters_out = posters;
+  return albedo;
+}
+
+Scene Scene::makeDefaultRoom(const SceneParams& p) {
+  int posters = 0;
+  const std::vector<cv::Mat> albedo = makeRoomAlbedo(p, 1.9, &posters);  // top edge 1.9-2.3 m above the floor
+  std::vector<SceneTexture> tex;
+  for (const auto& a : albedo) tex.emplace_back(a, static_cast<float>(p.texels_per_m));
 
   // Boxes and pillars at several depths, >= 1 m away from the default trajectory (|x| <= 1.35, |y| <= 0.9).
   const float hx = p.room_x / 2, hy = p.room_y / 2, hz = p.room_z;

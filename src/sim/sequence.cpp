@@ -33,6 +33,14 @@ CameraModelPtr makeSimCamera(const std::string& camera, int width, int height, s
     // EuRoC cam0: fu fv cu cv, radtan k1 k2 p1 p2.
     model = "pinhole-radtan", w0 = 752, h0 = 480;
     p = {458.654, 457.296, 367.215, 248.375, -0.28340811, 0.07395907, 0.00019359, 1.76187114e-05};
+  } else if (camera == "kitti") {
+    // KITTI odometry cam0 (rectified grayscale, 1241x376): no distortion.
+    model = "pinhole-radtan", w0 = 1241, h0 = 376;
+    p = {718.856, 718.856, 607.1928, 185.2157, 0.0, 0.0, 0.0, 0.0};
+  } else if (camera == "davis240") {
+    // DAVIS240-like 240x180 sensor with a ~62 deg lens and mild barrel distortion.
+    model = "pinhole-radtan", w0 = 240, h0 = 180;
+    p = {200.0, 200.0, 119.5, 89.5, -0.1, 0.02, 0.0, 0.0};
   } else if (camera == "fisheye") {
     // TUM-VI cam0 512x512, equidistant (Kannala-Brandt) k1..k4.
     model = "kannala-brandt", w0 = 512, h0 = 512;

@@ -1,10 +1,12 @@
-// iraf_vo_simulate: renders a textured room along a smooth 6-DoF loop through a pinhole-radtan or
-// Kannala-Brandt camera, applies photometric events and writes an ASL folder (+ TUM ground truth,
-// events.csv, optionally a rosbag with /cam0/image_raw mono8 and /groundtruth/pose).
+// iraf_vo_simulate: renders a textured scene (room, street or slider table) along the trajectory of a
+// motion preset (room loop, drive, slider, handheld_fast; optionally standing still first) through a
+// pinhole-radtan or Kannala-Brandt camera, applies photometric events and writes an ASL folder (+ TUM
+// ground truth, events.csv, optionally a rosbag with /cam0/image_raw mono8 and /groundtruth/pose).
 //
-//   iraf_vo_simulate --preset clean|dark|overexposed|flicker|mixed --out DIR [--frames N]
-//       [--camera pinhole|fisheye|path/to/sensor.yaml] [--width W --height H] [--seed S] [--speed X]
-//       [--supersample S] [--motion-blur K] [--bag OUT.bag] [--threads N] [--no-photos] [--depth]
+//   iraf_vo_simulate --preset clean|dark|overexposed|flicker|mixed --out DIR [--motion M] [--static-start SEC]
+//       [--frames N] [--rate HZ] [--camera pinhole|fisheye|kitti|davis240|path/to/sensor.yaml]
+//       [--width W --height H] [--seed S] [--speed X] [--supersample S] [--motion-blur K] [--exposure SEC]
+//       [--bag OUT.bag] [--threads N] [--no-photos] [--depth]
 //   iraf_vo_simulate --benchmark N [--camera ...]   (render speed, single core and all cores)
 #include <chrono>
 #include <ctime>
@@ -21,21 +23,33 @@
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/image_encodings.h>
 
+#include "iraf_vo/sim/motion_preset.h"
 #include "iraf_vo/sim/photometric.h"
 #include "iraf_vo/sim/renderer.h"
 #include "iraf_vo/sim/scene.h"
+#include "iraf_vo/sim/scene_presets.h"
 #include "iraf_vo/sim/sequence.h"
 
 namespace {
 
 void usage(std::ostream& os) {
   os << "usage: iraf_vo_simulate --preset " << iraf_vo::photometricPresetNames() << " --out DIR\n"
-        "         [--frames N (400 = 20 s at 20 Hz)] [--camera pinhole|fisheye|path/to/sensor.yaml]\n"
-        "         [--width W --height H] [--seed S] [--speed X (loop rate, 1 = one loop in 20 s)]\n"
+        "         [--motion " << iraf_vo::motionKindNames() << " (room)] [--static-start SEC (0)]\n"
+        "         [--frames N] [--rate HZ] [--camera pinhole|fisheye|kitti|davis240|path/to/sensor.yaml]\n"
+        "         [--width W --height H] [--seed S] [--speed X (speed factor: loop rate, drive / slider speed)]\n"
         "         [--supersample S (1..4)] [--motion-blur K (sub-frame renders)] [--exposure SEC]\n"
         "         [--bag OUT.bag] [--threads N (0 = all cores)] [--no-photos]\n"
         "         [--depth (also OUT/mav0/depth0: 16-bit PNG z-depth in mm)]\n"
-        "       iraf_vo_simulate --benchmark N [--camera ...] [--width W --height H]\n";
+        "       iraf_vo_simulate --benchmark N [--motion M] [--camera ...] [--width W --height H]\n"
+        "Motions (each with its own default camera, rate, frames, motion blur; the options above override them):\n"
+        "  room           textured 8x6x3 m room, smooth 6-DoF loop, pinhole (EuRoC cam0 752x480), 20 Hz, 400 frames\n"
+        "  drive          street (asphalt, facades 3-50 m, cars, trees), 10 m/s with gentle S-curves, camera 1.65 m\n"
+        "                 high; kitti (1241x376, f 718.9), 10 Hz (1 m/frame), 100 frames, blur 3 x 2 ms\n"
+        "  slider         pure sideways translation (0.25 m/s, 1 m travel, back and forth) past table objects at\n"
+        "                 0.3-1 m and a wall at 4 m; davis240 (240x180, f 200, k1 -0.1), 25 Hz, 100 frames, blur 3 x 10 ms\n"
+        "  handheld_fast  the room loop with fast hand rotations (<= 3 deg/frame); pinhole or --camera fisheye,\n"
+        "                 20 Hz, 300 frames, motion blur 4 x 8 ms\n"
+        "  --static-start SEC: the camera stands still for SEC s, then accelerates over 1 s (any motion)\n";
 }
 
 bool parseInt(const std::string& key, const std::string& v, int lo, int hi, int* out) {
@@ -70,8 +84,10 @@ int main(int argc, char** argv) {
   iraf_vo::SimParams sim;
   iraf_vo::TrajectoryParams traj;
   iraf_vo::SceneParams scene_params;
-  std::string preset, out_dir, bag_path;
+  std::string preset, out_dir, bag_path, motion_name = "room";
   int seed = 1, benchmark = 0;
+  bool set_camera = false, set_frames = false, set_rate = false, set_blur = false, set_exposure = false;
+  double static_start = 0.0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "-h" || a == "--help") {
@@ -96,15 +112,18 @@ int main(int argc, char** argv) {
     if (a == "--preset") preset = v;
     else if (a == "--out") out_dir = v;
     else if (a == "--bag") bag_path = v;
-    else if (a == "--camera") sim.camera = v;
-    else if (a == "--frames") ok = parseInt(a, v, 1, 1000000, &sim.frames);
+    else if (a == "--camera") sim.camera = v, set_camera = true;
+    else if (a == "--motion") motion_name = v;
+    else if (a == "--static-start") ok = parseDouble(a, v, 0.0, 3600.0, &static_start);
+    else if (a == "--rate") ok = parseDouble(a, v, 0.1, 1000.0, &sim.rate_hz), set_rate = true;
+    else if (a == "--frames") ok = parseInt(a, v, 1, 1000000, &sim.frames), set_frames = true;
     else if (a == "--width") ok = parseInt(a, v, 16, 8192, &sim.width);
     else if (a == "--height") ok = parseInt(a, v, 16, 8192, &sim.height);
     else if (a == "--seed") ok = parseInt(a, v, 0, 2147483647, &seed);
     else if (a == "--threads") ok = parseInt(a, v, 0, 256, &sim.threads);
     else if (a == "--supersample") ok = parseInt(a, v, 1, 4, &sim.supersample);
-    else if (a == "--motion-blur") ok = parseInt(a, v, 1, 64, &sim.motion_blur_samples);
-    else if (a == "--exposure") ok = parseDouble(a, v, 0.0, 0.05, &sim.exposure_time_s);
+    else if (a == "--motion-blur") ok = parseInt(a, v, 1, 64, &sim.motion_blur_samples), set_blur = true;
+    else if (a == "--exposure") ok = parseDouble(a, v, 0.0, 0.05, &sim.exposure_time_s), set_exposure = true;
     else if (a == "--speed") ok = parseDouble(a, v, 0.05, 5.0, &traj.speed);
     else if (a == "--benchmark") ok = parseInt(a, v, 1, 100000, &benchmark);
     else {
@@ -117,6 +136,31 @@ int main(int argc, char** argv) {
   if (benchmark == 0 && (preset.empty() || out_dir.empty())) {
     std::cerr << "iraf_vo_simulate: --preset and --out are required\n";
     usage(std::cerr);
+    return 2;
+  }
+  iraf_vo::MotionKind motion;
+  if (!iraf_vo::parseMotionKind(motion_name, &motion)) {
+    std::cerr << "iraf_vo_simulate: unknown --motion '" << motion_name << "' (use " << iraf_vo::motionKindNames() << ")\n";
+    return 2;
+  }
+  // The motion's defaults, then the options given on the command line.
+  const iraf_vo::MotionPreset mp = iraf_vo::motionPreset(motion);
+  const double speed = traj.speed;
+  traj = mp.traj;
+  traj.speed = speed;  // loop rate (room, handheld_fast); the drive and slider speeds scale with it too
+  traj.drive_speed_mps *= speed;
+  traj.slider_speed_mps *= speed;
+  traj.static_start_s = static_start;
+  if (!set_camera) sim.camera = mp.camera;
+  if (!set_frames) sim.frames = mp.frames;
+  if (!set_rate) sim.rate_hz = mp.rate_hz;
+  if (!set_blur) sim.motion_blur_samples = mp.motion_blur_samples;
+  if (!set_exposure) sim.exposure_time_s = mp.exposure_time_s;
+  scene_params.texels_per_m = mp.texels_per_m;
+  sim.brightness = mp.brightness;
+  const std::string terr = iraf_vo::validate(traj);
+  if (!terr.empty()) {
+    std::cerr << "iraf_vo_simulate: trajectory: " << terr << "\n";
     return 2;
   }
   sim.seed = static_cast<uint64_t>(seed);
@@ -139,13 +183,17 @@ int main(int argc, char** argv) {
   std::shared_ptr<const iraf_vo::Scene> scene;
   std::unique_ptr<iraf_vo::Renderer> renderer;
   try {
-    scene = std::make_shared<const iraf_vo::Scene>(iraf_vo::Scene::makeDefaultRoom(scene_params));
+    scene = std::make_shared<const iraf_vo::Scene>(
+        iraf_vo::makeMotionScene(scene_params, traj, (sim.frames - 1) / sim.rate_hz + sim.exposure_time_s));
     renderer = std::make_unique<iraf_vo::Renderer>(camera, scene, sim);
   } catch (const std::exception& e) {
     std::cerr << "iraf_vo_simulate: " << e.what() << "\n";
     return 2;
   }
   const double setup_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  std::cout << "motion: " << iraf_vo::toString(motion) << " (static start " << static_start << " s), "
+            << sim.frames << " frames at " << sim.rate_hz << " Hz, motion blur " << sim.motion_blur_samples << " x "
+            << sim.exposure_time_s * 1e3 << " ms\n";
   std::cout << "camera: " << camera->describe() << "\nscene: " << scene->boxes().size() << " boxes, "
             << scene->photoPosters() << " photo posters; setup (textures + bearings) " << setup_ms << " ms\n";
 

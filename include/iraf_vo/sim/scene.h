@@ -78,6 +78,10 @@ struct SceneParams {
   // Ceiling light (world position) and the ambient share of the shading.
   double light_x = 0.0, light_y = 0.0, light_z = 2.9;
   double ambient = 0.45;
+  // Direct light falls off as 1 / (1 + d^2 / light_range_m^2) (a far light with a huge range = the sun).
+  double light_range_m = 3.0;
+  // > 0: the ceiling is an emissive sky, radiance = albedo * ceiling_shade (no Lambert term).
+  double ceiling_shade = 0.0;
 };
 
 class Scene {
@@ -104,6 +108,7 @@ class Scene {
   Eigen::Vector3f roomHi() const { return room_hi_; }
   /// Number of photo posters pasted (0 when the photo folder is absent: procedural only).
   int photoPosters() const { return photo_posters_; }
+  void setPhotoPosters(int n) { photo_posters_ = n; }
 
  private:
   SceneParams params_;
@@ -113,6 +118,11 @@ class Scene {
   Eigen::Vector3f light_ = Eigen::Vector3f::Zero();
   int photo_posters_ = 0;
 };
+
+/// Albedo of the 6 faces of the room params.room_x/y/z (procedural; 2 photo posters per wall with their top
+/// edge poster_top_m .. poster_top_m + 0.4 m above the floor when params.photo_dir has them, *posters = how
+/// many) followed by 4 procedural box textures (2 m, wrapping).
+std::vector<cv::Mat> makeRoomAlbedo(const SceneParams& params, double poster_top_m, int* posters);
 
 /// Procedural albedo (CV_8UC1, w x h, power-of-two sides) with corners at several scales: multi-scale
 /// value noise + random rectangles, blobs, lines and checker patches. Deterministic for a seed.
@@ -250,8 +260,10 @@ inline float Scene::shade(const SceneHit& hit, float footprint_texels) const {
   const Eigen::Vector3f l = light_ - hit.point;
   const float d2 = l.squaredNorm();
   const float cosang = std::max(0.f, hit.normal.dot(l)) / std::sqrt(d2 + 1e-12f);
-  const float direct = std::min(1.f, cosang * 1.6f / (1.f + d2 / 9.f));
+  const float r = static_cast<float>(params_.light_range_m);
+  const float direct = std::min(1.f, cosang * 1.6f / (1.f + d2 / (r * r)));
   const float a = static_cast<float>(params_.ambient);
+  if (hit.surface == 5 && params_.ceiling_shade > 0.0) return albedo * static_cast<float>(params_.ceiling_shade);
   return albedo * (a + (1.f - a) * direct);
 }
 

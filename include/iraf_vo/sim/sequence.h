@@ -18,7 +18,8 @@
 namespace iraf_vo {
 
 /// The simulator's camera: "pinhole" (EuRoC cam0 pinhole-radtan 752x480), "fisheye" (TUM-VI cam0
-/// Kannala-Brandt 512x512) or a sensor.yaml path (loadCamera). width/height > 0 rescale the built-in
+/// Kannala-Brandt 512x512), "kitti" (KITTI odometry cam0, 1241x376, f 718.9, rectified), "davis240"
+/// (240x180, f 200, radial k1 -0.1 k2 0.02) or a sensor.yaml path (loadCamera). width/height > 0 rescale the built-in
 /// intrinsics to that resolution. Returns null and sets *error on failure.
 CameraModelPtr makeSimCamera(const std::string& camera, int width, int height, std::string* error);
 

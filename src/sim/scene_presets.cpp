@@ -1,0 +1,192 @@
+#include "iraf_vo/sim/scene_presets.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+namespace iraf_vo {
+
+namespace {
+
+int nextPow2(double v) {
+  int p = 16;
+  while (p < v) p <<= 1;
+  return p;
+}
+
+SceneBox makeBox(double x0, double y0, double z0, double x1, double y1, double z1, int texture) {
+  return SceneBox{Eigen::Vector3f(x0, y0, z0), Eigen::Vector3f(x1, y1, z1), texture};
+}
+
+/// The street centreline sampled every metre, with the left normals.
+struct Polyline {
+  std::vector<Eigen::Vector2d> p, left;
+  std::vector<double> s;
+};
+
+Polyline samplePath(const TrajectoryParams& traj, double s0, double s1) {
+  Polyline pl;
+  for (double s = s0; s <= s1; s += 1.0) {
+    double h = 0;
+    pl.p.push_back(drivePath(traj, s, &h));
+    pl.left.emplace_back(-std::sin(h), std::cos(h));
+    pl.s.push_back(s);
+  }
+  return pl;
+}
+
+/// Distance from the centreline (all samples) to the footprint of the axis-aligned box.
+double clearance(const Polyline& pl, const SceneBox& b) {
+  double best = 1e30;
+  for (const Eigen::Vector2d& q : pl.p) {
+    const double dx = std::max({b.lo.x() - q.x(), 0.0, q.x() - b.hi.x()});
+    const double dy = std::max({b.lo.y() - q.y(), 0.0, q.y() - b.hi.y()});
+    best = std::min(best, std::hypot(dx, dy));
+  }
+  return best;
+}
+
+/// Adds an object of footprint sx x sy (m), z in [z0, z1], whose centre is `offset` m to the `side` (+1 left,
+/// -1 right) of the centreline at arc length s; pushed outwards until it is >= min_clear from the centreline.
+/// Returns the outward shift applied (m) or -1 when the object could not be placed.
+double placeBeside(const Polyline& pl, double s, int side, double offset, double sx, double sy, double z0, double z1,
+                   int texture, double min_clear, std::vector<SceneBox>* boxes,
+                   const std::vector<std::pair<double, double>>& stack = {}) {
+  const int i = std::max(0, std::min(static_cast<int>(pl.s.size()) - 1, static_cast<int>(std::lround(s - pl.s[0]))));
+  const Eigen::Vector2d n = side * pl.left[i];
+  for (double push = 0.0; push < 20.0; push += 0.25) {
+    const Eigen::Vector2d c = pl.p[i] + (offset + push) * n;
+    SceneBox b = makeBox(c.x() - sx / 2, c.y() - sy / 2, z0, c.x() + sx / 2, c.y() + sy / 2, z1, texture);
+    if (clearance(pl, b) < min_clear) continue;
+    boxes->push_back(b);
+    // Stacked parts (car cabin, lamp head...): (size scale, z1) pairs sharing the centre.
+    for (const auto& st : stack)
+      boxes->push_back(makeBox(c.x() - st.first * sx / 2, c.y() - st.first * sy / 2, z1, c.x() + st.first * sx / 2,
+                               c.y() + st.first * sy / 2, st.second, texture));
+    return push;
+  }
+  return -1.0;
+}
+
+}  // namespace
+
+Scene makeStreetScene(const SceneParams& params, const TrajectoryParams& traj, double path_length_m) {
+  if (!(path_length_m >= 0.0)) throw std::invalid_argument("makeStreetScene: path_length_m must be >= 0");
+  const double tpm = params.texels_per_m;
+  const double s0 = -40.0, s1 = path_length_m + 80.0;
+  const Polyline pl = samplePath(traj, s0, s1);
+  double max_x = 0, max_y = 0;
+  for (const auto& q : pl.p) max_x = std::max(max_x, std::abs(q.x())), max_y = std::max(max_y, std::abs(q.y()));
+  SceneParams sp = params;
+  sp.room_x = 2 * (max_x + 90.0);  // distant city walls beyond the last buildings
+  sp.room_y = 2 * (max_y + 90.0);
+  sp.room_z = 40.0;
+  // Sun: far away (elevation ~40 deg) from the left-front: left facades lit, right ones in shade.
+  const Eigen::Vector3d sun = Eigen::Vector3d(0.35, 0.6, 0.72).normalized() * 1e5;
+  sp.light_x = sun.x(), sp.light_y = sun.y(), sp.light_z = sun.z();
+  sp.light_range_m = 1e7;
+  sp.ambient = 0.42;
+  sp.ceiling_shade = 1.12;
+
+  cv::RNG rng(params.seed * 6364136223846793005ull + 1442695040888963407ull);
+  const uint64_t ts = params.seed * 32;
+  const int fw = nextPow2(32 * tpm), fh = nextPow2(16 * tpm);
+  // Textures: 0-3 facades (also the distant walls), 4 asphalt, 5 sky, 6 foliage, 7-8 cars, 9 poles and trunks,
+  // 10-11 more facades.
+  std::vector<SceneTexture> tex;
+  const float ftpm = static_cast<float>(tpm);
+  for (int i = 0; i < 4; ++i) tex.emplace_back(makeFacadeTexture(fw, fh, tpm, ts + i), ftpm);
+  tex.emplace_back(makeAsphaltTexture(nextPow2(32 * tpm), nextPow2(32 * tpm), tpm, ts + 4), ftpm);
+  tex.emplace_back(makeSkyTexture(nextPow2(16 * tpm), nextPow2(16 * tpm), tpm, ts + 5), ftpm);
+  tex.emplace_back(makeFoliageTexture(nextPow2(8 * tpm), nextPow2(8 * tpm), tpm, ts + 6), ftpm);
+  for (int i = 0; i < 3; ++i)
+    tex.emplace_back(makeProceduralTexture(nextPow2(4 * tpm), nextPow2(4 * tpm), tpm, ts + 7 + i), ftpm);
+  for (int i = 0; i < 2; ++i) tex.emplace_back(makeFacadeTexture(fw, fh, tpm, ts + 10 + i), ftpm);
+  const int facade[] = {0, 1, 2, 3, 10, 11};
+
+  std::vector<SceneBox> boxes;
+  for (int side : {1, -1}) {
+    // Front row of building blocks, with side-street gaps; a taller second row 30-45 m out.
+    for (double s = s0; s < s1;) {
+      const double len = rng.uniform(8.0, 22.0);
+      const double depth = rng.uniform(10.0, 18.0), height = rng.uniform(7.0, 25.0);
+      const double setback = rng.uniform(6.0, 11.0);
+      placeBeside(pl, s + len / 2, side, setback + depth / 2, len, depth, 0.0, height, facade[rng.uniform(0, 6)], 5.5,
+                  &boxes);
+      s += len + (rng.uniform(0.0, 1.0) < 0.15 ? rng.uniform(8.0, 14.0) : rng.uniform(0.0, 1.5));
+    }
+    for (double s = s0; s < s1;) {
+      const double len = rng.uniform(15.0, 30.0), depth = rng.uniform(12.0, 25.0);
+      placeBeside(pl, s + len / 2, side, rng.uniform(30.0, 45.0) + depth / 2, len, depth, 0.0, rng.uniform(15.0, 35.0),
+                  facade[rng.uniform(0, 6)], 25.0, &boxes);
+      s += len + rng.uniform(0.0, 4.0);
+    }
+    // Parked cars along the kerb (body + cabin), trees, street lamps.
+    for (double s = s0; s < s1; s += 6.5)
+      if (rng.uniform(0.0, 1.0) < 0.4)
+        placeBeside(pl, s, side, 4.3 + rng.uniform(-0.2, 0.2), 4.3, 1.8, 0.18, 1.0, 7 + rng.uniform(0, 2), 3.2, &boxes,
+                    {{0.6, 1.45}});
+    for (double s = s0 + 3.0; s < s1; s += 9.0)
+      if (rng.uniform(0.0, 1.0) < 0.5) {
+        const double crown = rng.uniform(2.2, 3.2);
+        placeBeside(pl, s, side, 5.8, 0.3, 0.3, 0.0, 2.8, 9, 3.6 + crown / 2, &boxes);
+        placeBeside(pl, s, side, 5.8, crown, crown, 2.6, 2.6 + rng.uniform(2.5, 4.0), 6, 3.6, &boxes);
+      }
+    for (double s = s0 + 10.0; s < s1; s += 25.0)
+      placeBeside(pl, s, side, 5.2, 0.16, 0.16, 0.0, 6.0, 9, 4.0, &boxes, {{3.0, 6.25}});
+  }
+  return Scene(sp, std::move(tex), std::move(boxes));
+}
+
+Scene makeSliderScene(const SceneParams& params, const TrajectoryParams& traj) {
+  if (!(traj.slider_travel_m > 0.0 && traj.slider_travel_m <= 3.0))
+    throw std::invalid_argument("makeSliderScene: slider_travel_m must be in (0, 3] m (got " +
+                                std::to_string(traj.slider_travel_m) + ")");
+  SceneParams sp = params;
+  sp.room_x = 6.0, sp.room_y = 7.0, sp.room_z = 2.6;  // far wall y = 3.5: 4 m from the slider (y = -0.5)
+  sp.light_x = 0.3, sp.light_y = 1.0, sp.light_z = 2.5;
+  int posters = 0;
+  std::vector<cv::Mat> albedo = makeRoomAlbedo(sp, 1.5, &posters);  // posters at eye height
+  // Table-top objects (5-16 cm) get the procedural statistics shrunk 6x (features 0.5-10 cm), like printed boxes.
+  for (int i = 7; i < 10; ++i)
+    albedo[i] = makeProceduralTexture(albedo[i].cols, albedo[i].rows, sp.texels_per_m / 6.0, params.seed * 16 + 40 + i);
+  std::vector<SceneTexture> tex;
+  for (const auto& a : albedo) tex.emplace_back(a, static_cast<float>(sp.texels_per_m));
+  cv::RNG rng(params.seed * 2862933555777941757ull + 3037000493ull);
+  const double y_cam = traj.slider_y_m;
+  std::vector<SceneBox> boxes = {makeBox(-1.8, y_cam + 0.25, 0.0, 1.8, y_cam + 1.9, 0.72, 6)};  // table
+  // Objects on the table 0.3-1.0 m in front of the slider, spread over its travel (+ margin).
+  const int n = 9;
+  const double span = traj.slider_travel_m / 2 + 0.45;
+  for (int i = 0; i < n; ++i) {
+    const double x = -span + 2 * span * (i + rng.uniform(0.2, 0.8)) / n;
+    const double d = 0.3 + 0.7 * ((i * 5) % n) / (n - 1.0);  // depths interleaved: near next to far
+    const double sx = rng.uniform(0.05, 0.16), sy = rng.uniform(0.05, 0.16), hgt = rng.uniform(0.15, 0.45);
+    boxes.push_back(makeBox(x - sx / 2, y_cam + d, 0.72, x + sx / 2, y_cam + d + sy, 0.72 + hgt, 7 + i % 3));
+  }
+  // Larger boxes on the floor behind the table, 2.5-3.3 m away.
+  for (int i = 0; i < 3; ++i) {
+    const double x = -1.6 + 1.6 * i + rng.uniform(-0.3, 0.3), sz = rng.uniform(0.4, 0.7);
+    const double y = y_cam + rng.uniform(2.5, 3.0);
+    boxes.push_back(makeBox(x - sz / 2, y, 0.0, x + sz / 2, y + sz, rng.uniform(0.9, 1.6), 6 + i));
+  }
+  Scene scene(sp, std::move(tex), std::move(boxes));
+  scene.setPhotoPosters(posters);
+  return scene;
+}
+
+Scene makeMotionScene(const SceneParams& params, const TrajectoryParams& traj, double duration_s) {
+  switch (traj.motion) {
+    case MotionKind::kDrive: {
+      const double t_motion = motionClock(traj, duration_s);
+      return makeStreetScene(params, traj, traj.drive_speed_mps * t_motion);
+    }
+    case MotionKind::kSlider: return makeSliderScene(params, traj);
+    case MotionKind::kRoom:
+    case MotionKind::kHandheldFast: break;
+  }
+  return Scene::makeDefaultRoom(params);
+}
+
+}  // namespace iraf_vo
