@@ -1,8 +1,9 @@
-// ROS glue (not part of the ROS-free core): sensor_msgs/Image -> 8-bit grayscale cv::Mat.
+// ROS glue (not part of the ROS-free core): sensor_msgs/Image <-> 8-bit cv::Mat.
 #pragma once
 
 #include <opencv2/core.hpp>
 #include <sensor_msgs/Image.h>
+#include <std_msgs/Header.h>
 #include <string>
 
 namespace iraf_vo {
@@ -16,5 +17,9 @@ const char* supportedEncodings();
 /// Returns false and fills `error` (naming the encoding / size problem) for anything unusable:
 /// unsupported encoding, zero width or height, data shorter than step * height.
 bool toMono8(const sensor_msgs::ImageConstPtr& msg, cv::Mat* gray, std::string* error);
+
+/// An 8-bit image as a message (cv_bridge copy): CV_8UC1 -> mono8, CV_8UC3 -> bgr8. Throws std::invalid_argument
+/// for other types.
+sensor_msgs::ImagePtr toImageMsg(const cv::Mat& image, const std_msgs::Header& header);
 
 }  // namespace iraf_vo
