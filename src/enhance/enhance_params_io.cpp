@@ -4,33 +4,33 @@ namespace iraf_vo {
 
 const ParamTable<EnhanceParams>& enhanceParamTable() {
   using P = EnhanceParams;
-  static const ParamTable<P> table("enhance", {
-      enumParam("method", &P::method, toString, parseEnhanceMethod, "Preprocessing method: none | iraf | he | clahe"),
-      intParam("gaussian_kernel_size", &P::gaussian_kernel_size, 1, 15,
-          "eqs. 1-2: Gaussian kernel size (odd; 1 = off). Not in the paper; 5 chosen", /*odd=*/true),
-      doubleParam("gaussian_sigma", &P::gaussian_sigma, 0.1, 5.0,
-          "eqs. 1-2: Gaussian sigma [px]. Not in the paper; 1.0 chosen"),
-      doubleParam("mu_expected", &P::mu_expected, 1.0, 254.0,
-          "eq. 10: expected mean intensity (112 generic; 50 used for EuRoC)"),
-      doubleParam("brightness_threshold", &P::brightness_threshold, 0.0, 2.0,
-          "eq. 10: |t| above this -> dim or bright (authors' code: 0.3)"),
-      doubleParam("dim_lambda", &P::dim_lambda, 0.01, 2.0,
-          "eq. 5: smoothness lambda for dim images (authors' code: 0.75)"),
-      doubleParam("dim_tau", &P::dim_tau, 0.01, 1.0,
-          "eq. 7: lower gamma bound tau for dim images (authors' code: 0.5)"),
-      doubleParam("bright_lambda", &P::bright_lambda, 0.01, 2.0,
-          "eq. 5: lambda on the inverted image for bright images (authors' code: 0.25)"),
-      doubleParam("bright_tau", &P::bright_tau, 0.01, 1.0,
-          "eq. 7: tau on the inverted image for bright images"),
-      doubleParam("epsilon", &P::epsilon, 0.0, 3.0,
-          "eq. 12: weight of the gamma term (I_gamma - I_gauss)"),
-      doubleParam("eta", &P::eta, 0.0, 5.0,
-          "eq. 12: weight of the unsharp mask G_mask (unsharp amount, authors' code: 1.5)"),
-      doubleParam("clahe_clip_limit", &P::clahe_clip_limit, 0.1, 40.0,
-          "CLAHE clip limit (ORB-SLAM3 TUM-VI: 3.0)"),
-      intParam("clahe_tiles", &P::clahe_tiles, 1, 32,
-          "CLAHE tiles per side (ORB-SLAM3 TUM-VI: 8)"),
-  }, validate);
+  static const ParamTable<P> table(
+      "enhance",
+      {
+          enumParam("method", &P::method, toString, parseEnhanceMethod,
+                    "Preprocessing method: none | iraf | he | clahe"),
+          intParam("gaussian_kernel_size", &P::gaussian_kernel_size, 1, 15,
+                   "eqs. 1-2: Gaussian kernel size (odd; 1 = off). Not in the paper; 5 chosen", /*odd=*/true),
+          doubleParam("gaussian_sigma", &P::gaussian_sigma, 0.1, 5.0,
+                      "eqs. 1-2: Gaussian sigma [px]. Not in the paper; 1.0 chosen"),
+          doubleParam("mu_expected", &P::mu_expected, 1.0, 254.0,
+                      "eq. 10: expected mean intensity (112 generic; 50 used for EuRoC)"),
+          doubleParam("brightness_threshold", &P::brightness_threshold, 0.0, 2.0,
+                      "eq. 10: |t| above this -> dim or bright (authors' code: 0.3)"),
+          doubleParam("dim_lambda", &P::dim_lambda, 0.01, 2.0,
+                      "eq. 5: smoothness lambda for dim images (authors' code: 0.75)"),
+          doubleParam("dim_tau", &P::dim_tau, 0.01, 1.0,
+                      "eq. 7: lower gamma bound tau for dim images (authors' code: 0.5)"),
+          doubleParam("bright_lambda", &P::bright_lambda, 0.01, 2.0,
+                      "eq. 5: lambda on the inverted image for bright images (authors' code: 0.25)"),
+          doubleParam("bright_tau", &P::bright_tau, 0.01, 1.0, "eq. 7: tau on the inverted image for bright images"),
+          doubleParam("epsilon", &P::epsilon, 0.0, 3.0, "eq. 12: weight of the gamma term (I_gamma - I_gauss)"),
+          doubleParam("eta", &P::eta, 0.0, 5.0,
+                      "eq. 12: weight of the unsharp mask G_mask (unsharp amount, authors' code: 1.5)"),
+          doubleParam("clahe_clip_limit", &P::clahe_clip_limit, 0.1, 40.0, "CLAHE clip limit (ORB-SLAM3 TUM-VI: 3.0)"),
+          intParam("clahe_tiles", &P::clahe_tiles, 1, 32, "CLAHE tiles per side (ORB-SLAM3 TUM-VI: 8)"),
+      },
+      validate);
   return table;
 }
 

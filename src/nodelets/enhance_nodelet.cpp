@@ -1,8 +1,7 @@
 // EnhanceNodelet: image -> image_enhanced (+ enhance_stats). Thin: converts messages and calls iraf_vo::Enhancer
 // (the ROS-free core); parameters and lazy subscription come from StageNodelet.
-#include <pluginlib/class_list_macros.hpp>
-
 #include <atomic>
+#include <pluginlib/class_list_macros.hpp>
 
 #include "iraf_vo/EnhanceConfig.h"
 #include "iraf_vo/EnhanceStats.h"

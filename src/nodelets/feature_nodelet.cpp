@@ -1,12 +1,10 @@
 // FeatureNodelet: image_enhanced -> features (iraf_vo/Features) + lazily features_image (debug, bgr8).
 // Thin: converts messages and calls iraf_vo::FeatureExtractor (the ROS-free core); parameters and lazy subscription
 // come from StageNodelet.
-#include <pluginlib/class_list_macros.hpp>
-
-#include <opencv2/imgproc.hpp>
-
 #include <algorithm>
 #include <deque>
+#include <opencv2/imgproc.hpp>
+#include <pluginlib/class_list_macros.hpp>
 
 #include "iraf_vo/EnhanceStats.h"
 #include "iraf_vo/FeaturesConfig.h"
@@ -32,9 +30,7 @@ class FeatureNodelet : public StageNodelet<FeatureParams, iraf_vo::FeaturesConfi
     image_pub_ = advertiseLazy(*it_, "features_image", 1);
   }
 
-  bool hasListeners() override {
-    return features_pub_.getNumSubscribers() > 0 || image_pub_.getNumSubscribers() > 0;
-  }
+  bool hasListeners() override { return features_pub_.getNumSubscribers() > 0 || image_pub_.getNumSubscribers() > 0; }
   void subscribeInputs() override {
     image_transport::TransportHints hints("raw", ros::TransportHints(), getPrivateNodeHandle());
     sub_ = it_->subscribe("image_enhanced", queue_size_, &FeatureNodelet::imageCb, this, hints);

@@ -16,11 +16,11 @@
 // include/iraf_vo/pipeline/tracking_session.h. A time jump back restarts the published path too.
 #include <nav_msgs/Odometry.h>
 #include <nav_msgs/Path.h>
-#include <pluginlib/class_list_macros.hpp>
 #include <std_srvs/Trigger.h>
 #include <tf2_ros/transform_broadcaster.h>
 
 #include <algorithm>
+#include <pluginlib/class_list_macros.hpp>
 
 #include "iraf_vo/Features.h"
 #include "iraf_vo/TrackerConfig.h"
@@ -76,8 +76,9 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     pnh.param<std::string>("camera_file", camera_file, "");
     CameraModelPtr camera;
     if (camera_file.empty()) {
-      NODELET_ERROR("tracker: ~camera_file is not set (a calibration yaml, e.g. $(find iraf_vo)/config/euroc_cam0.yaml)"
-                    "; not tracking");
+      NODELET_ERROR(
+          "tracker: ~camera_file is not set (a calibration yaml, e.g. $(find iraf_vo)/config/euroc_cam0.yaml)"
+          "; not tracking");
     } else if (!(camera = loadCamera(camera_file, &cam_err))) {
       NODELET_ERROR("tracker: ~camera_file %s: %s; not tracking", camera_file.c_str(), cam_err.c_str());
     } else {
@@ -124,9 +125,9 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     std::string err;
     res.success = !trajectory_file_.empty() && session_ && session_->saveTrajectory(&err);
     res.message = trajectory_file_.empty() ? "~trajectory_file is not set"
-                  : res.success ? "wrote " + std::to_string(session_->trajectory().size()) + " poses to " +
-                                      trajectory_file_
-                                : err;
+                  : res.success
+                      ? "wrote " + std::to_string(session_->trajectory().size()) + " poses to " + trajectory_file_
+                      : err;
     return true;
   }
 
@@ -136,18 +137,21 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     std::string err, warning;
     const bool ok = fromMsg(*msg, &frame, &err, &warning);
     if (!warning.empty()) NODELET_WARN_ONCE("tracker: %s", warning.c_str());
-    const SessionStep step = session_->process(static_cast<int64_t>(msg->header.stamp.toNSec()), ok ? &frame : nullptr,
-                                               err);
+    const SessionStep step =
+        session_->process(static_cast<int64_t>(msg->header.stamp.toNSec()), ok ? &frame : nullptr, err);
     for (const SessionMessage& m : step.messages) {
-      if (m.level == SessionMessage::Level::kInfo) NODELET_INFO("tracker: %s", m.text.c_str());
-      else if (m.level == SessionMessage::Level::kWarn) NODELET_WARN_THROTTLE(2.0, "tracker: %s", m.text.c_str());
-      else NODELET_ERROR_THROTTLE(5.0, "tracker: %s", m.text.c_str());
+      if (m.level == SessionMessage::Level::kInfo)
+        NODELET_INFO("tracker: %s", m.text.c_str());
+      else if (m.level == SessionMessage::Level::kWarn)
+        NODELET_WARN_THROTTLE(2.0, "tracker: %s", m.text.c_str());
+      else
+        NODELET_ERROR_THROTTLE(5.0, "tracker: %s", m.text.c_str());
     }
     if (step.time_jump) path_ = nav_msgs::Path();
     if (!step.tracked_frame) return;
-    const std::string camera_frame = !camera_frame_.empty()           ? camera_frame_
+    const std::string camera_frame = !camera_frame_.empty()          ? camera_frame_
                                      : !msg->header.frame_id.empty() ? msg->header.frame_id
-                                                                      : std::string("camera");
+                                                                     : std::string("camera");
     if (step.has_pose) publishPose(step.T_world_camera, msg->header.stamp, camera_frame);
     if (step.map_changed) {
       std_msgs::Header h;

@@ -17,9 +17,12 @@ bool loadPipelineConfig(const std::string& path, PipelineParams* p, std::string*
   }
   std::string err;
   bool ok = true;
-  if (root["enhance"] && !enhanceParamTable().load(root["enhance"], &p->enhance, &err)) ok = false;
-  else if (root["features"] && !featureParamTable().load(root["features"], &p->features, &err)) ok = false;
-  else if (root["tracker"] && !trackerParamTable().load(root["tracker"], &p->tracker, &err)) ok = false;
+  if (root["enhance"] && !enhanceParamTable().load(root["enhance"], &p->enhance, &err))
+    ok = false;
+  else if (root["features"] && !featureParamTable().load(root["features"], &p->features, &err))
+    ok = false;
+  else if (root["tracker"] && !trackerParamTable().load(root["tracker"], &p->tracker, &err))
+    ok = false;
   if (!ok) *error = path + ": " + err;
   return ok;
 }

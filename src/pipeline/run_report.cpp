@@ -66,8 +66,9 @@ std::string RunRecorder::summary(const RunTotals& t) const {
     << st.lost_frames << ", lost events " << st.lost_events << ", resets " << st.resets << ", keyframes "
     << st.keyframes << ", map points " << t.map_points << ", BA runs " << st.ba_runs << " (mean "
     << (st.ba_runs ? st.ba_ms_total / st.ba_runs : 0.0) << " ms)\n";
-  s << "wall " << t.wall_s << " s, " << fps(t) << " fps (reader, front-end, tracking and mapping threads in parallel); CPU "
-    << t.cpu_s << " s = " << cpuMsPerFrame(t) << " ms/frame (all threads) -> <= " << 2000.0 / cpuMsPerFrame(t)
+  s << "wall " << t.wall_s << " s, " << fps(t)
+    << " fps (reader, front-end, tracking and mapping threads in parallel); CPU " << t.cpu_s
+    << " s = " << cpuMsPerFrame(t) << " ms/frame (all threads) -> <= " << 2000.0 / cpuMsPerFrame(t)
     << " fps on 2 idle cores\n";
   s << "per stage [ms] median / 95% / mean:\n";
   for (const auto& kv : ms_) {
@@ -100,9 +101,9 @@ bool RunRecorder::writeJson(const std::string& path, const RunTotals& t, std::st
   js << "{\n  \"dataset\": \"" << t.dataset << "\",\n  \"mode\": \"" << t.mode << "\",\n  \"frames\": " << st.frames
      << ",\n  \"tracked\": " << st.tracked << ",\n  \"tracked_pct\": " << tracked_pct
      << ",\n  \"lost_frames\": " << st.lost_frames << ",\n  \"lost_events\": " << st.lost_events
-     << ",\n  \"resets\": " << st.resets << ",\n  \"keyframes\": " << st.keyframes << ",\n  \"map_points\": "
-     << t.map_points << ",\n  \"read_errors\": " << t.read_errors << ",\n  \"fps\": " << fps(t)
-     << ",\n  \"cpu_ms_per_frame\": " << cpuMsPerFrame(t) << ",\n  \"ms\": {";
+     << ",\n  \"resets\": " << st.resets << ",\n  \"keyframes\": " << st.keyframes
+     << ",\n  \"map_points\": " << t.map_points << ",\n  \"read_errors\": " << t.read_errors
+     << ",\n  \"fps\": " << fps(t) << ",\n  \"cpu_ms_per_frame\": " << cpuMsPerFrame(t) << ",\n  \"ms\": {";
   bool first = true;
   for (const auto& kv : ms_) {
     const Percentiles p = percentiles(kv.second);

@@ -42,10 +42,10 @@ void TrackingSession::drop(SessionStep* step, SessionMessage::Level level, const
 }
 
 void TrackingSession::restartAfterTimeJump(int64_t stamp_ns, SessionStep* step) {
-  step->messages.push_back({SessionMessage::Level::kWarn,
-                            "time jumped back " + seconds(last_stamp_ns_ - stamp_ns, 3) + " s (" +
-                                seconds(last_stamp_ns_, 3) + " -> " + seconds(stamp_ns, 3) +
-                                "; bag loop / restart?): new map, the path restarts"});
+  step->messages.push_back({SessionMessage::Level::kWarn, "time jumped back " + seconds(last_stamp_ns_ - stamp_ns, 3) +
+                                                              " s (" + seconds(last_stamp_ns_, 3) + " -> " +
+                                                              seconds(stamp_ns, 3) +
+                                                              "; bag loop / restart?): new map, the path restarts"});
   ++counters_.time_resets;
   tracker_.reset();
   trajectory_ = Trajectory();

@@ -3,6 +3,7 @@
 #include <sensor_msgs/point_cloud2_iterator.h>
 
 #include <algorithm>
+#include <boost/make_shared.hpp>
 #include <cctype>
 
 namespace iraf_vo {
@@ -36,7 +37,8 @@ sensor_msgs::PointCloud2Ptr toCloudMsg(const std::vector<Eigen::Vector3d>& point
   return cloud;
 }
 
-geometry_msgs::PoseArrayPtr toPoseArrayMsg(const std::vector<Eigen::Isometry3d>& poses, const std_msgs::Header& header) {
+geometry_msgs::PoseArrayPtr toPoseArrayMsg(const std::vector<Eigen::Isometry3d>& poses,
+                                           const std_msgs::Header& header) {
   geometry_msgs::PoseArrayPtr arr = boost::make_shared<geometry_msgs::PoseArray>();
   arr->header = header;
   for (const Eigen::Isometry3d& T : poses) arr->poses.push_back(toPoseMsg(T));

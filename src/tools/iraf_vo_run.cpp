@@ -1,5 +1,6 @@
 // iraf_vo_run --dataset DIR_OR_BAG [--topic T] [--camera sensor.yaml] --out traj.txt
-//             [--mode iraf|baseline|enhance|adaptive|culling|he|clahe] [--gt GT] [--stats stats.json] [--config params.yaml]
+//             [--mode iraf|baseline|enhance|adaptive|culling|he|clahe] [--gt GT] [--stats stats.json] [--config
+//             params.yaml]
 //             [--first N] [--frames N] [--set tracker.key=value ...] [--quiet]
 // Offline monocular VO (no roscore): iraf_vo::OfflinePipeline (reader thread -> front-end thread) feeds the tracker
 // on this thread (BA on its own thread). Writes the TUM trajectory of every tracked frame and a summary (frames,
@@ -9,7 +10,6 @@
 #include <iraf_vo/pipeline/pipeline_params.h>
 #include <iraf_vo/pipeline/run_report.h>
 #include <iraf_vo/ros/bag_reader.h>
-
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -24,20 +24,22 @@
 namespace {
 
 void usage(FILE* f) {
-  std::fprintf(f,
-               "usage: iraf_vo_run --dataset DIR_OR_BAG [--topic T] [--camera sensor.yaml] --out traj.txt\n"
-               "                   [--mode iraf|baseline|enhance|adaptive|culling|he|clahe] [--gt GT] [--stats stats.json]\n"
-               "                   [--config params.yaml] [--first N] [--frames N] [--set section.key=value] [--frame-log F] [--quiet]\n"
-               "  --dataset  ASL folder (DIR/mav0/cam0/data.csv) or a rosbag (.bag, needs --topic)\n"
-               "  --camera   camera yaml (default: the ASL folder's mav0/cam0/sensor.yaml)\n"
-               "  --mode     iraf = enhancement + adaptive threshold + culling (default); baseline = all off;\n"
-               "             enhance / adaptive / culling = that module alone; he / clahe = global histogram\n"
-               "             equalization / CLAHE (clip 3.0, 8x8 tiles) + the baseline features (paper Table I)\n"
-               "  --gt       ground truth (TUM or EuRoC csv) -> Sim(3) ATE in the summary\n"
-               "  --config   YAML with optional maps 'enhance:', 'features:', 'tracker:' (keys = parameter names)\n"
-               "  --first/--frames  process frames [first, first + frames) only\n"
-               "  --frame-log per-frame CSV: index,stamp,state,keypoints,matches,inliers,keyframe,pnp,ms_track\n"
-               "  --set      override one parameter, e.g. --set tracker.ba_window_size=12 (after --mode / --config)\n");
+  std::fprintf(
+      f,
+      "usage: iraf_vo_run --dataset DIR_OR_BAG [--topic T] [--camera sensor.yaml] --out traj.txt\n"
+      "                   [--mode iraf|baseline|enhance|adaptive|culling|he|clahe] [--gt GT] [--stats stats.json]\n"
+      "                   [--config params.yaml] [--first N] [--frames N] [--set section.key=value] [--frame-log F] "
+      "[--quiet]\n"
+      "  --dataset  ASL folder (DIR/mav0/cam0/data.csv) or a rosbag (.bag, needs --topic)\n"
+      "  --camera   camera yaml (default: the ASL folder's mav0/cam0/sensor.yaml)\n"
+      "  --mode     iraf = enhancement + adaptive threshold + culling (default); baseline = all off;\n"
+      "             enhance / adaptive / culling = that module alone; he / clahe = global histogram\n"
+      "             equalization / CLAHE (clip 3.0, 8x8 tiles) + the baseline features (paper Table I)\n"
+      "  --gt       ground truth (TUM or EuRoC csv) -> Sim(3) ATE in the summary\n"
+      "  --config   YAML with optional maps 'enhance:', 'features:', 'tracker:' (keys = parameter names)\n"
+      "  --first/--frames  process frames [first, first + frames) only\n"
+      "  --frame-log per-frame CSV: index,stamp,state,keypoints,matches,inliers,keyframe,pnp,ms_track\n"
+      "  --set      override one parameter, e.g. --set tracker.ba_window_size=12 (after --mode / --config)\n");
 }
 
 struct Args {
@@ -51,10 +53,16 @@ struct Args {
 int parseArgs(int argc, char** argv, Args* a) {
   for (int i = 1; i < argc; ++i) {
     const std::string k = argv[i];
-    std::string* text = k == "--dataset" ? &a->dataset : k == "--topic" ? &a->topic : k == "--camera" ? &a->camera_path
-                        : k == "--out" ? &a->out : k == "--mode" ? &a->mode : k == "--gt" ? &a->gt_path
-                        : k == "--stats" ? &a->stats_path : k == "--config" ? &a->config_path
-                        : k == "--frame-log" ? &a->frame_log_path : nullptr;
+    std::string* text = k == "--dataset"     ? &a->dataset
+                        : k == "--topic"     ? &a->topic
+                        : k == "--camera"    ? &a->camera_path
+                        : k == "--out"       ? &a->out
+                        : k == "--mode"      ? &a->mode
+                        : k == "--gt"        ? &a->gt_path
+                        : k == "--stats"     ? &a->stats_path
+                        : k == "--config"    ? &a->config_path
+                        : k == "--frame-log" ? &a->frame_log_path
+                                             : nullptr;
     const bool takes_value = text || k == "--set" || k == "--first" || k == "--frames";
     if (k == "-h" || k == "--help") return usage(stdout), 0;
     if (k == "--quiet") {
@@ -90,7 +98,8 @@ int parseArgs(int argc, char** argv, Args* a) {
 int makeParams(const Args& a, iraf_vo::PipelineParams* p) {
   iraf_vo::FrontEndMode mode;
   if (!iraf_vo::parseFrontEndMode(a.mode, &mode))
-    return std::fprintf(stderr, "iraf_vo_run: --mode '%s': expected %s\n", a.mode.c_str(), iraf_vo::frontEndModeList()), 2;
+    return std::fprintf(stderr, "iraf_vo_run: --mode '%s': expected %s\n", a.mode.c_str(), iraf_vo::frontEndModeList()),
+           2;
   iraf_vo::applyFrontEndMode(mode, &p->enhance, &p->features);
   std::string err;
   if (!a.config_path.empty() && !iraf_vo::loadPipelineConfig(a.config_path, p, &err))
@@ -153,7 +162,9 @@ int main(int argc, char** argv) {
     if (a.camera_path.empty()) a.camera_path = asl.sensorYamlPath();
   } else {
     if (a.topic.empty())
-      return std::fprintf(stderr, "iraf_vo_run: --dataset %s is not a folder: a bag needs --topic\n", a.dataset.c_str()), 2;
+      return std::fprintf(stderr, "iraf_vo_run: --dataset %s is not a folder: a bag needs --topic\n",
+                          a.dataset.c_str()),
+             2;
     if (!bag.open(a.dataset, a.topic, &err))
       return std::fprintf(stderr, "iraf_vo_run: --dataset %s: %s\n", a.dataset.c_str(), err.c_str()), 1;
     source = std::make_unique<BagFrameSource>(&bag, a.dataset + " (topic " + a.topic + ")");
@@ -205,7 +216,8 @@ int main(int argc, char** argv) {
   if (fatal) return 1;
   if (totals.processed > 0 && totals.read_errors == totals.processed)
     return std::fprintf(stderr, "iraf_vo_run: --dataset %s: none of the %ld frames could be read\n", a.dataset.c_str(),
-                        totals.processed), 1;
+                        totals.processed),
+           1;
   totals.wall_s = 1e-3 * iraf_vo::msSince(t_start);
   if (tty) std::fprintf(stderr, "\n");
 

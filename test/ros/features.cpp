@@ -208,6 +208,7 @@ TEST(FeatureConversion, RoundTripAndInconsistentMessages) {
   f.stats.culled = 3;
   f.stats.detected = 5;
   f.stats.brightness = -1;
+  f.scale_factor = 1.3;
   std_msgs::Header h;
   h.stamp = ros::Time(12.5);
   iraf_vo::Features m;
@@ -227,8 +228,25 @@ TEST(FeatureConversion, RoundTripAndInconsistentMessages) {
   EXPECT_DOUBLE_EQ(g.stats.global_threshold, 19.5);
   EXPECT_EQ(g.stats.culled, 3);
   EXPECT_EQ(g.stats.brightness, -1);
+  EXPECT_DOUBLE_EQ(m.scale_factor, 1.3);
+  EXPECT_DOUBLE_EQ(g.scale_factor, 1.3);  // the pyramid scale travels with the features
+
+  // A sender without scale_factor (0): estimated from the keypoint sizes (37.2 = 31 * 1.2 at octave 1), warned.
+  iraf_vo::Features old = m;
+  old.scale_factor = 0.0;
+  std::string warning;
+  ASSERT_TRUE(iraf_vo::fromMsg(old, &g, &err, &warning)) << err;
+  EXPECT_NEAR(g.scale_factor, 1.2, 1e-5);
+  EXPECT_NE(warning.find("scale_factor"), std::string::npos) << warning;
+  old.octave = {0, 0};  // nothing to estimate from: the ORB-SLAM default
+  ASSERT_TRUE(iraf_vo::fromMsg(old, &g, &err, &warning)) << err;
+  EXPECT_DOUBLE_EQ(g.scale_factor, 1.2);
 
   iraf_vo::Features bad = m;
+  bad.scale_factor = 0.5;
+  EXPECT_FALSE(iraf_vo::fromMsg(bad, &g, &err));
+  EXPECT_NE(err.find("scale_factor"), std::string::npos) << err;
+  bad = m;
   bad.y.pop_back();
   EXPECT_FALSE(iraf_vo::fromMsg(bad, &g, &err));
   EXPECT_NE(err.find("differ in length"), std::string::npos) << err;

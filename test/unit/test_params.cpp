@@ -101,8 +101,8 @@ void expectTextRoundTrip(const ParamTable<S>& table) {
     ASSERT_TRUE(table.set(&a, e.name, table.get(b, e), &err)) << e.name << ": " << err;
     EXPECT_EQ(std::memcmp(&a, &b, sizeof(S)), 0) << e.name;
     if (e.type == ParamType::kText) continue;
-    const std::string other = e.type == ParamType::kBool ? (table.get(b, e) == "true" ? "false" : "true")
-                                                         : formatDouble(e.max);
+    const std::string other =
+        e.type == ParamType::kBool ? (table.get(b, e) == "true" ? "false" : "true") : formatDouble(e.max);
     if (other == table.get(b, e)) continue;
     ASSERT_TRUE(table.set(&a, e.name, other, &err)) << e.name << ": " << err;
     EXPECT_NE(std::memcmp(&a, &b, sizeof(S)), 0) << e.name << " = " << other << " did not change the struct";

@@ -1,10 +1,10 @@
 // The offline pipeline layer: front-end modes, FrontEnd, OfflinePipeline (threads, order, errors) and the pipeline's
 // parameter file / overrides.
 #include <gtest/gtest.h>
-
-#include <fstream>
 #include <iraf_vo/pipeline/offline_pipeline.h>
 #include <iraf_vo/pipeline/pipeline_params.h>
+
+#include <fstream>
 
 #include "common/test_data.h"
 #include "common/tmp_dir.h"
@@ -75,8 +75,10 @@ class FakeSource : public FrameSource {
     if (index >= n_) return false;
     reads.push_back(index);
     out->stamp = 0.1 * index;
-    if (index == bad_) out->error = "broken file";
-    else out->gray = texturedImage(index == wrong_size_ ? 200 : 160, 120, static_cast<unsigned>(index + 1));
+    if (index == bad_)
+      out->error = "broken file";
+    else
+      out->gray = texturedImage(index == wrong_size_ ? 200 : 160, 120, static_cast<unsigned>(index + 1));
     return true;
   }
   std::string describe(long index) const override { return "frame" + std::to_string(index) + ".png"; }

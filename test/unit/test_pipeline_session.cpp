@@ -1,8 +1,8 @@
 // TrackingSession (pipeline/tracking_session.h): the run rules of the tracker nodelet on synthetic feature frames.
 #include <gtest/gtest.h>
+#include <iraf_vo/pipeline/tracking_session.h>
 
 #include <fstream>
-#include <iraf_vo/pipeline/tracking_session.h>
 
 #include "common/tmp_dir.h"
 #include "unit/tracking_test_utils.h"
@@ -67,9 +67,9 @@ TEST_F(SessionFixture, DuplicatedAndLateStampsAreDroppedAJumpBackRestartsTheMap)
   EXPECT_TRUE(st.tracked_frame);
   EXPECT_TRUE(st.time_jump);
   EXPECT_EQ(st.counters.time_resets, 1);
-  EXPECT_FALSE(st.has_pose);                  // a new map starts with initialization
-  EXPECT_EQ(s.trajectory().size(), 0u);       // the recorded trajectory restarts
-  EXPECT_EQ(st.counters.frames, 31);          // counters run over every tracker of the session
+  EXPECT_FALSE(st.has_pose);             // a new map starts with initialization
+  EXPECT_EQ(s.trajectory().size(), 0u);  // the recorded trajectory restarts
+  EXPECT_EQ(st.counters.frames, 31);     // counters run over every tracker of the session
 }
 
 TEST_F(SessionFixture, UnusableFramesAreDroppedWithTheReason) {

@@ -32,11 +32,11 @@ struct ParamEntry {
   int S::*int_field = nullptr;
   double S::*double_field = nullptr;
   bool S::*bool_field = nullptr;
-  std::function<std::string(const S&)> get_text;          // kText
-  std::function<bool(const std::string&, S*)> set_text;   // kText: false for an unknown name
-  double min = 0.0, max = 0.0;  // dynamic_reconfigure range (kInt / kDouble)
-  bool odd = false;             // the cfg slider may give even values: the ROS bridge rounds them up to odd
-  std::string doc;              // = the cfg description
+  std::function<std::string(const S&)> get_text;         // kText
+  std::function<bool(const std::string&, S*)> set_text;  // kText: false for an unknown name
+  double min = 0.0, max = 0.0;                           // dynamic_reconfigure range (kInt / kDouble)
+  bool odd = false;  // the cfg slider may give even values: the ROS bridge rounds them up to odd
+  std::string doc;   // = the cfg description
 };
 
 template <class S>

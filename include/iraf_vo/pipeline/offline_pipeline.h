@@ -4,10 +4,9 @@
 #pragma once
 
 #include <atomic>
+#include <opencv2/core.hpp>
 #include <string>
 #include <thread>
-
-#include <opencv2/core.hpp>
 
 #include "iraf_vo/common/bounded_queue.h"
 #include "iraf_vo/io/image_folder.h"
@@ -46,10 +45,10 @@ class AslFrameSource : public FrameSource {
 };
 
 struct PipelineOptions {
-  long first = 0;                // frames [first, last)
+  long first = 0;  // frames [first, last)
   long last = 0;
-  int width = 0, height = 0;     // the camera's image size: another size stops the run (fatal)
-  std::string camera_name;       // for that message
+  int width = 0, height = 0;  // the camera's image size: another size stops the run (fatal)
+  std::string camera_name;    // for that message
   size_t queue_capacity = 4;
 };
 

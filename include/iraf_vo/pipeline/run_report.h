@@ -33,7 +33,7 @@ struct RunTotals {
   double wall_s = 0, cpu_s = 0;  // cpu_s: all threads of the process
   bool have_ate = false;
   EvalResult ate;
-  std::string ate_error;         // when --gt was given but the ATE could not be computed
+  std::string ate_error;  // when --gt was given but the ATE could not be computed
   bool ate_requested = false;
 };
 

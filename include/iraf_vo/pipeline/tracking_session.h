@@ -27,16 +27,16 @@
 namespace iraf_vo {
 
 struct SessionOptions {
-  double max_out_of_order = 1.0;  // [s] older stamps within this window are dropped, older ones restart the map
-  std::string trajectory_file;    // TUM file of the recorded trajectory ("" = none)
+  double max_out_of_order = 1.0;    // [s] older stamps within this window are dropped, older ones restart the map
+  std::string trajectory_file;      // TUM file of the recorded trajectory ("" = none)
   bool save_every_keyframe = true;  // rewrite trajectory_file at every keyframe
 };
 
 /// Counters over every tracker of the session.
 struct SessionCounters {
   long frames = 0, tracked = 0, lost_frames = 0, lost_events = 0, keyframes = 0, dropped = 0;
-  long resets = 0;       // map resets inside the core trackers + session restarts
-  long time_resets = 0;  // restarts after a time jump back
+  long resets = 0;                        // map resets inside the core trackers + session restarts
+  long time_resets = 0;                   // restarts after a time jump back
   int map_points = 0, map_keyframes = 0;  // of the last published map
 };
 
@@ -51,11 +51,11 @@ struct SessionStep {
   bool tracked_frame = false;  // false: the frame was dropped (messages say why)
   bool time_jump = false;      // the map and the recorded trajectory restarted: restart published paths too
   TrackResult result;
-  bool has_pose = false;       // result.state == kTracking
+  bool has_pose = false;                                             // result.state == kTracking
   Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();  // anchored
-  bool map_changed = false;    // keyframe or initialization: map_points / keyframe_poses are set
-  std::vector<Eigen::Vector3d> map_points;       // anchored
-  std::vector<Eigen::Isometry3d> keyframe_poses; // anchored T_world_camera, oldest first
+  bool map_changed = false;                       // keyframe or initialization: map_points / keyframe_poses are set
+  std::vector<Eigen::Vector3d> map_points;        // anchored
+  std::vector<Eigen::Isometry3d> keyframe_poses;  // anchored T_world_camera, oldest first
   SessionCounters counters;
   std::vector<SessionMessage> messages;
 };

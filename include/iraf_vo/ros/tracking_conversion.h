@@ -1,12 +1,12 @@
 // ROS glue (not part of the ROS-free core): tracking results -> geometry / sensor / iraf_vo messages.
 #pragma once
 
-#include <Eigen/Geometry>
 #include <geometry_msgs/Pose.h>
 #include <geometry_msgs/PoseArray.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <std_msgs/Header.h>
 
+#include <Eigen/Geometry>
 #include <string>
 #include <vector>
 
