@@ -10,6 +10,7 @@
 #include "common/tmp_dir.h"
 
 using namespace iraf_vo;
+using iraf_vo_test::texturedImage;
 
 TEST(FrontEndMode, EveryModeParsesBackAndSetsItsSwitches) {
   const FrontEndMode all[] = {FrontEndMode::kIraf,     FrontEndMode::kBaseline, FrontEndMode::kEnhance,
@@ -113,7 +114,9 @@ TEST(OfflinePipeline, FramesArriveInOrderWithinTheRangeAndErrorsAreFlagged) {
     EXPECT_DOUBLE_EQ(items[k].frame.stamp, 0.1 * items[k].index);
     EXPECT_FALSE(items[k].fatal);
     EXPECT_EQ(items[k].error, items[k].index == 5) << items[k].index;
-    if (!items[k].error) EXPECT_GT(items[k].frame.keypoints.size(), 0u) << items[k].index;
+    if (!items[k].error) {
+      EXPECT_GT(items[k].frame.keypoints.size(), 0u) << items[k].index;
+    }
   }
   EXPECT_EQ(items[3].message, "broken file");
   EXPECT_EQ(runAll(&src, 10, 40).size(), 0u + 2u);  // the source ends before `last`

@@ -8,6 +8,7 @@
 #include "unit/tracking_test_utils.h"
 
 using namespace iraf_vo;
+using namespace iraf_vo::test;
 
 namespace {
 
@@ -135,7 +136,9 @@ TEST_F(SessionFixture, TrajectoryIsRecordedAndSavedAtKeyframes) {
     st = s.process(stampOf(i), &f);
     tracked += st.has_pose;
     if (st.result.is_keyframe) poses_at_keyframe = static_cast<long>(s.trajectory().size());
-    if (st.map_changed) EXPECT_FALSE(st.map_points.empty()) << i;
+    if (st.map_changed) {
+      EXPECT_FALSE(st.map_points.empty()) << i;
+    }
   }
   EXPECT_EQ(static_cast<long>(s.trajectory().size()), tracked);
   EXPECT_EQ(st.counters.tracked, tracked);
