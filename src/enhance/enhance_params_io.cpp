@@ -1,97 +1,47 @@
 #include "iraf_vo/enhance/enhance_params_io.h"
 
-#include <yaml-cpp/yaml.h>
-
-#include <cmath>
-#include <cstdlib>
-#include <functional>
-#include <map>
-
 namespace iraf_vo {
 
-namespace {
-
-bool parseDouble(const std::string& s, double* v) {
-  char* end = nullptr;
-  const double d = std::strtod(s.c_str(), &end);
-  if (s.empty() || end == s.c_str() || *end != '\0' || !std::isfinite(d)) return false;
-  *v = d;
-  return true;
+const ParamTable<EnhanceParams>& enhanceParamTable() {
+  using P = EnhanceParams;
+  static const ParamTable<P> table(
+      "enhance",
+      {
+          enumParam("method", &P::method, toString, parseEnhanceMethod,
+                    "Preprocessing method: none | iraf | he | clahe"),
+          intParam("gaussian_kernel_size", &P::gaussian_kernel_size, 1, 15,
+                   "eqs. 1-2: Gaussian kernel size (odd; 1 = off). Not in the paper; 5 chosen", /*odd=*/true),
+          doubleParam("gaussian_sigma", &P::gaussian_sigma, 0.1, 5.0,
+                      "eqs. 1-2: Gaussian sigma [px]. Not in the paper; 1.0 chosen"),
+          doubleParam("mu_expected", &P::mu_expected, 1.0, 254.0,
+                      "eq. 10: expected mean intensity (112 generic; 50 used for EuRoC)"),
+          doubleParam("brightness_threshold", &P::brightness_threshold, 0.0, 2.0,
+                      "eq. 10: |t| above this -> dim or bright (authors' code: 0.3)"),
+          doubleParam("dim_lambda", &P::dim_lambda, 0.01, 2.0,
+                      "eq. 5: smoothness lambda for dim images (authors' code: 0.75)"),
+          doubleParam("dim_tau", &P::dim_tau, 0.01, 1.0,
+                      "eq. 7: lower gamma bound tau for dim images (authors' code: 0.5)"),
+          doubleParam("bright_lambda", &P::bright_lambda, 0.01, 2.0,
+                      "eq. 5: lambda on the inverted image for bright images (authors' code: 0.25)"),
+          doubleParam("bright_tau", &P::bright_tau, 0.01, 1.0, "eq. 7: tau on the inverted image for bright images"),
+          doubleParam("epsilon", &P::epsilon, 0.0, 3.0, "eq. 12: weight of the gamma term (I_gamma - I_gauss)"),
+          doubleParam("eta", &P::eta, 0.0, 5.0,
+                      "eq. 12: weight of the unsharp mask G_mask (unsharp amount, authors' code: 1.5)"),
+          doubleParam("clahe_clip_limit", &P::clahe_clip_limit, 0.1, 40.0, "CLAHE clip limit (ORB-SLAM3 TUM-VI: 3.0)"),
+          intParam("clahe_tiles", &P::clahe_tiles, 1, 32, "CLAHE tiles per side (ORB-SLAM3 TUM-VI: 8)"),
+      },
+      validate);
+  return table;
 }
-
-using Setter = std::function<bool(EnhanceParams*, const std::string&)>;
-
-Setter doubleField(double EnhanceParams::*f) {
-  return [f](EnhanceParams* p, const std::string& s) { return parseDouble(s, &(p->*f)); };
-}
-Setter intField(int EnhanceParams::*f) {
-  return [f](EnhanceParams* p, const std::string& s) {
-    double d;
-    if (!parseDouble(s, &d) || d != std::floor(d)) return false;
-    p->*f = static_cast<int>(d);
-    return true;
-  };
-}
-
-const std::map<std::string, Setter>& setters() {
-  static const std::map<std::string, Setter> m = {
-      {"method", [](EnhanceParams* p, const std::string& s) { return parseEnhanceMethod(s, &p->method); }},
-      {"gaussian_kernel_size", intField(&EnhanceParams::gaussian_kernel_size)},
-      {"gaussian_sigma", doubleField(&EnhanceParams::gaussian_sigma)},
-      {"mu_expected", doubleField(&EnhanceParams::mu_expected)},
-      {"brightness_threshold", doubleField(&EnhanceParams::brightness_threshold)},
-      {"dim_lambda", doubleField(&EnhanceParams::dim_lambda)},
-      {"dim_tau", doubleField(&EnhanceParams::dim_tau)},
-      {"bright_lambda", doubleField(&EnhanceParams::bright_lambda)},
-      {"bright_tau", doubleField(&EnhanceParams::bright_tau)},
-      {"epsilon", doubleField(&EnhanceParams::epsilon)},
-      {"eta", doubleField(&EnhanceParams::eta)},
-      {"clahe_clip_limit", doubleField(&EnhanceParams::clahe_clip_limit)},
-      {"clahe_tiles", intField(&EnhanceParams::clahe_tiles)},
-  };
-  return m;
-}
-
-}  // namespace
 
 bool setEnhanceParam(EnhanceParams* p, const std::string& key, const std::string& value, std::string* error) {
-  const auto it = setters().find(key);
-  if (it == setters().end()) {
-    *error = "unknown enhance parameter '" + key + "'";
-    return false;
-  }
-  if (!it->second(p, value)) {
-    *error = "bad value '" + value + "' for enhance parameter '" + key + "'";
-    return false;
-  }
-  return true;
+  return enhanceParamTable().set(p, key, value, error);
 }
 
-std::vector<std::string> enhanceParamNames() {
-  std::vector<std::string> names;
-  for (const auto& kv : setters()) names.push_back(kv.first);
-  return names;
-}
+std::vector<std::string> enhanceParamNames() { return enhanceParamTable().names(); }
 
 bool loadEnhanceParams(const YAML::Node& node, EnhanceParams* p, std::string* error) {
-  if (!node.IsMap()) {
-    *error = "enhance parameters must be a YAML map";
-    return false;
-  }
-  for (const auto& kv : node) {
-    const std::string key = kv.first.as<std::string>("");  // fallback: a non-scalar key (e.g. "? ? 4") threw
-    if (!kv.second.IsScalar()) {
-      *error = "enhance parameter '" + key + "' must be a scalar";
-      return false;
-    }
-    if (!setEnhanceParam(p, key, kv.second.as<std::string>(), error)) return false;
-  }
-  const std::string v = validate(*p);
-  if (!v.empty()) {
-    *error = "invalid enhance parameters: " + v;
-    return false;
-  }
-  return true;
+  return enhanceParamTable().load(node, p, error);
 }
 
 }  // namespace iraf_vo

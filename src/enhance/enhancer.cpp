@@ -1,12 +1,13 @@
 #include "iraf_vo/enhance/enhancer.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
 
 #include <opencv2/imgproc.hpp>
+
+#include "iraf_vo/common/wall_clock.h"
 
 namespace iraf_vo {
 
@@ -127,7 +128,7 @@ void applyLut(const cv::Mat& src, const std::array<uint8_t, 256>& lut, bool inve
 }  // namespace
 
 EnhanceResult Enhancer::enhance(const cv::Mat& gray, const EnhanceParams& cfg) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = SteadyClock::now();
   if (gray.empty()) throw std::invalid_argument("enhance: empty image");
   if (gray.type() != CV_8UC1)
     throw std::invalid_argument("enhance: expected an 8-bit single-channel image (CV_8UC1), got type " +
@@ -194,7 +195,7 @@ EnhanceResult Enhancer::enhance(const cv::Mat& gray, const EnhanceParams& cfg) {
       break;
     }
   }
-  res.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  res.ms = msSince(t0);
   return res;
 }
 

@@ -1,10 +1,6 @@
 #include "iraf_vo/features/feature_params.h"
 
-#include <yaml-cpp/yaml.h>
-
 #include <cmath>
-#include <functional>
-#include <map>
 #include <sstream>
 
 namespace iraf_vo {
@@ -35,67 +31,63 @@ std::string validate(const FeatureParams& p) {
   return e.str();
 }
 
-namespace {
-
-template <typename T>
-std::function<bool(const YAML::Node&)> bind(T* field) {
-  return [field](const YAML::Node& n) {
-    try {
-      *field = n.as<T>();
-      return true;
-    } catch (const YAML::Exception&) {
-      return false;
-    }
-  };
+const ParamTable<FeatureParams>& featureParamTable() {
+  using P = FeatureParams;
+  static const ParamTable<P> table(
+      "features",
+      {
+          intParam("n_features", &P::n_features, 50, 10000,
+                   "Keypoints per image over all levels (ORB-SLAM: 1000 for 752x480)"),
+          doubleParam("scale_factor", &P::scale_factor, 1.05, 2.0, "Pyramid scale between levels (ORB-SLAM: 1.2)"),
+          intParam("n_levels", &P::n_levels, 1, 16, "Pyramid levels (ORB-SLAM: 8)"),
+          intParam("cell_size", &P::cell_size, 8, 200,
+                   "FAST cell side [px of the level] = the eq. 16-19 subregion (ORB-SLAM: 35)"),
+          boolParam("adaptive_threshold", &P::adaptive_threshold,
+                    "On: eqs. 13-20 per cell. Off: ORB-SLAM fixed ini_th_fast / min_th_fast"),
+          intParam("ini_th_fast", &P::ini_th_fast, 1, 254,
+                   "Fixed FAST threshold when adaptive_threshold is off (ORB-SLAM: 20)"),
+          intParam("min_th_fast", &P::min_th_fast, 1, 254,
+                   "Retry threshold for empty cells when adaptive_threshold is off (ORB-SLAM: 7)"),
+          doubleParam("alpha", &P::alpha, 0.0, 10.0,
+                      "eq. 15: weight of the entropy F_h [bits]. 1.35 with beta 0.15: F_t^g ~20 on EuRoC, ~9.3 on "
+                      "EuRoC x0.2, 6..23 on DICM/LIME"),
+          doubleParam("beta", &P::beta, 0.0, 5.0,
+                      "eq. 15: weight of the mean Sobel magnitude F_g (EuRoC F_g ~63, x0.2 ~12.5)"),
+          doubleParam("delta", &P::delta, 0.0, 10.0,
+                      "eq. 19: F_t^l = delta |I_m - t_o|. 1.0: median cell threshold ~20 on EuRoC"),
+          doubleParam("ft_min", &P::ft_min, 1.0, 254.0,
+                      "eq. 20: lower clip F_t,min (= ORB-SLAM minThFAST); retry threshold for empty cells"),
+          intParam("center_window", &P::center_window, 1, 31,
+                   "eq. 19: I_m = mean of this odd window at the cell centre (1 = paper's single pixel)", /*odd=*/true),
+          boolParam("culling", &P::culling, "On: remove keypoints with stability S < s_min (eqs. 21-23)"),
+          intParam("min_node_size", &P::min_node_size, 1, 512,
+                   "eq. 21: quad-tree leaves are not split below this side [level-0 px]"),
+          intParam("contrast_patch_size", &P::contrast_patch_size, 3, 63,
+                   "eq. 22: H_c = std-dev of this odd patch around the keypoint on its level", /*odd=*/true),
+          doubleParam("rho", &P::rho, 0.0, 10.0, "eq. 22: sigmoid sensitivity rho"),
+          doubleParam("h_th", &P::h_th, 0.0, 128.0, "eq. 22: contrast threshold H_th [grey-level std-dev]"),
+          doubleParam("k", &P::k, 0.0, 100.0, "eq. 23: density sigmoid sharpness k"),
+          doubleParam("d_opt", &P::d_opt, 0.0, 10.0, "eq. 23: D_opt in units of the frame's mean keypoint density"),
+          doubleParam("w1", &P::w1, 0.0, 1.0, "eq. 23: density weight w1"),
+          doubleParam("w2", &P::w2, 0.0, 1.0, "eq. 23: lighting weight w2"),
+          doubleParam("s_min", &P::s_min, 0.0, 1.0, "Keypoints with S < s_min are culled"),
+          intParam("min_features", &P::min_features, 0, 10000,
+                   "Never cull below this many keypoints (the highest-S ones are kept)"),
+          boolParam("eq23_literal", &P::eq23_literal,
+                    "eq. 23 as printed, w2 (1 - C_light) (rewards low contrast); off = stated intent w2 C_light"),
+      },
+      validate);
+  return table;
 }
 
-}  // namespace
+bool setFeatureParam(FeatureParams* p, const std::string& key, const std::string& value, std::string* err) {
+  return featureParamTable().set(p, key, value, err);
+}
+
+std::vector<std::string> featureParamNames() { return featureParamTable().names(); }
 
 bool loadFeatureParams(const YAML::Node& node, FeatureParams* p, std::string* err) {
-  auto fail = [err](const std::string& m) {
-    if (err) *err = m;
-    return false;
-  };
-  if (!node.IsDefined() || node.IsNull()) return true;  // nothing to override
-  if (!node.IsMap()) return fail("feature params: expected a YAML map of key: value");
-  FeatureParams q = *p;
-  const std::map<std::string, std::function<bool(const YAML::Node&)>> setters = {
-      {"n_features", bind(&q.n_features)},
-      {"scale_factor", bind(&q.scale_factor)},
-      {"n_levels", bind(&q.n_levels)},
-      {"cell_size", bind(&q.cell_size)},
-      {"adaptive_threshold", bind(&q.adaptive_threshold)},
-      {"ini_th_fast", bind(&q.ini_th_fast)},
-      {"min_th_fast", bind(&q.min_th_fast)},
-      {"alpha", bind(&q.alpha)},
-      {"beta", bind(&q.beta)},
-      {"delta", bind(&q.delta)},
-      {"ft_min", bind(&q.ft_min)},
-      {"center_window", bind(&q.center_window)},
-      {"culling", bind(&q.culling)},
-      {"min_node_size", bind(&q.min_node_size)},
-      {"contrast_patch_size", bind(&q.contrast_patch_size)},
-      {"rho", bind(&q.rho)},
-      {"h_th", bind(&q.h_th)},
-      {"k", bind(&q.k)},
-      {"d_opt", bind(&q.d_opt)},
-      {"w1", bind(&q.w1)},
-      {"w2", bind(&q.w2)},
-      {"s_min", bind(&q.s_min)},
-      {"min_features", bind(&q.min_features)},
-      {"eq23_literal", bind(&q.eq23_literal)},
-  };
-  for (const auto& kv : node) {
-    const std::string key = kv.first.as<std::string>("");
-    auto it = setters.find(key);
-    if (it == setters.end()) return fail("feature params: unknown key '" + key + "'");
-    if (!kv.second.IsScalar() || !it->second(kv.second))
-      return fail("feature params: key '" + key + "' has a value of the wrong type");
-  }
-  const std::string v = validate(q);
-  if (!v.empty()) return fail("feature params: " + v);
-  *p = q;
-  return true;
+  return featureParamTable().load(node, p, err);
 }
 
 }  // namespace iraf_vo

@@ -1,106 +1,45 @@
 // FeatureNodelet: image_enhanced -> features (iraf_vo/Features) + lazily features_image (debug, bgr8).
-// Thin: converts messages, holds the dynamic_reconfigure server, calls iraf_vo::FeatureExtractor (ROS-free core).
-#include <dynamic_reconfigure/server.h>
-#include <image_transport/image_transport.h>
-#include <nodelet/nodelet.h>
-#include <pluginlib/class_list_macros.hpp>
-#include <ros/ros.h>
-#include <sensor_msgs/image_encodings.h>
-
-#include <opencv2/imgproc.hpp>
-
-#include <boost/thread/recursive_mutex.hpp>
+// Thin: converts messages and calls iraf_vo::FeatureExtractor (the ROS-free core); parameters and lazy subscription
+// come from StageNodelet.
 #include <algorithm>
 #include <deque>
-#include <memory>
-#include <mutex>
+#include <opencv2/imgproc.hpp>
+#include <pluginlib/class_list_macros.hpp>
 
 #include "iraf_vo/EnhanceStats.h"
 #include "iraf_vo/FeaturesConfig.h"
 #include "iraf_vo/features/feature_extractor.h"
 #include "iraf_vo/ros/feature_conversion.h"
 #include "iraf_vo/ros/image_conversion.h"
+#include "stage_nodelet.h"
 
 namespace iraf_vo {
 
-namespace {
-
-/// Copies a FeaturesConfig into FeatureParams (same field names).
-FeatureParams toParams(const iraf_vo::FeaturesConfig& c) {
-  FeatureParams p;
-  p.n_features = c.n_features;
-  p.scale_factor = c.scale_factor;
-  p.n_levels = c.n_levels;
-  p.cell_size = c.cell_size;
-  p.adaptive_threshold = c.adaptive_threshold;
-  p.ini_th_fast = c.ini_th_fast;
-  p.min_th_fast = c.min_th_fast;
-  p.alpha = c.alpha;
-  p.beta = c.beta;
-  p.delta = c.delta;
-  p.ft_min = c.ft_min;
-  p.center_window = c.center_window | 1;  // odd
-  p.culling = c.culling;
-  p.min_node_size = c.min_node_size;
-  p.contrast_patch_size = c.contrast_patch_size | 1;  // odd
-  p.rho = c.rho;
-  p.h_th = c.h_th;
-  p.k = c.k;
-  p.d_opt = c.d_opt;
-  p.w1 = c.w1;
-  p.w2 = c.w2;
-  p.s_min = c.s_min;
-  p.min_features = c.min_features;
-  p.eq23_literal = c.eq23_literal;
-  return p;
-}
-
-}  // namespace
-
-class FeatureNodelet : public nodelet::Nodelet {
+class FeatureNodelet : public StageNodelet<FeatureParams, iraf_vo::FeaturesConfig> {
  public:
-  ~FeatureNodelet() override = default;
+  FeatureNodelet() : StageNodelet(featureParamTable()) {}
 
  private:
   void onInit() override {
     ros::NodeHandle& nh = getNodeHandle();
-    ros::NodeHandle& pnh = getPrivateNodeHandle();
-    pnh.param("queue_size", queue_size_, 5);
+    getPrivateNodeHandle().param("queue_size", queue_size_, 5);
     it_ = std::make_shared<image_transport::ImageTransport>(nh);
-
-    reconfigure_ = std::make_shared<ReconfigureServer>(reconfigure_mutex_, pnh);
-    reconfigure_->setCallback([this](iraf_vo::FeaturesConfig& c, uint32_t) { configure(c); });
-
-    // Lazy subscription: subscribe to `image_enhanced` only while someone listens to an output.
-    std::lock_guard<std::mutex> lock(connect_mutex_);
-    auto image_cb = [this](const image_transport::SingleSubscriberPublisher&) { connectCb(); };
-    auto feat_cb = [this](const ros::SingleSubscriberPublisher&) { connectCb(); };
-    features_pub_ = nh.advertise<iraf_vo::Features>("features", 10, feat_cb, feat_cb);
-    image_pub_ = it_->advertise("features_image", 1, image_cb, image_cb);
+    startReconfigure();
+    std::lock_guard<std::mutex> lock(connectMutex());
+    features_pub_ = advertiseLazy<iraf_vo::Features>(nh, "features", 10);
+    image_pub_ = advertiseLazy(*it_, "features_image", 1);
   }
 
-  void configure(const iraf_vo::FeaturesConfig& c) {
-    const FeatureParams p = toParams(c);
-    const std::string err = validate(p);
-    if (!err.empty()) {
-      NODELET_ERROR("features: rejected parameters: %s", err.c_str());
-      return;
-    }
-    std::lock_guard<std::mutex> lock(params_mutex_);
-    params_ = p;
+  bool hasListeners() override { return features_pub_.getNumSubscribers() > 0 || image_pub_.getNumSubscribers() > 0; }
+  void subscribeInputs() override {
+    image_transport::TransportHints hints("raw", ros::TransportHints(), getPrivateNodeHandle());
+    sub_ = it_->subscribe("image_enhanced", queue_size_, &FeatureNodelet::imageCb, this, hints);
+    // Optional: the enhancement class of each frame, matched by stamp (Features.brightness, 0 if unknown).
+    stats_sub_ = getNodeHandle().subscribe("enhance_stats", 20, &FeatureNodelet::statsCb, this);
   }
-
-  void connectCb() {
-    std::lock_guard<std::mutex> lock(connect_mutex_);
-    if (features_pub_.getNumSubscribers() == 0 && image_pub_.getNumSubscribers() == 0) {
-      sub_.shutdown();
-      stats_sub_.shutdown();
-    } else if (!sub_) {
-      image_transport::TransportHints hints("raw", ros::TransportHints(), getPrivateNodeHandle());
-      sub_ = it_->subscribe("image_enhanced", queue_size_, &FeatureNodelet::imageCb, this, hints);
-      // Optional: the enhancement class of each frame, matched by stamp (Features.brightness, 0 if unknown).
-      stats_sub_ = getNodeHandle().subscribe("enhance_stats", 20, &FeatureNodelet::statsCb, this);
-    }
+  void unsubscribeInputs() override {
+    sub_.shutdown();
+    stats_sub_.shutdown();
   }
 
   void statsCb(const iraf_vo::EnhanceStatsConstPtr& msg) {
@@ -118,11 +57,7 @@ class FeatureNodelet : public nodelet::Nodelet {
   }
 
   void imageCb(const sensor_msgs::ImageConstPtr& msg) {
-    FeatureParams params;
-    {
-      std::lock_guard<std::mutex> lock(params_mutex_);
-      params = params_;
-    }
+    const FeatureParams p = params();
     cv::Mat gray;
     std::string error;
     if (!toMono8(msg, &gray, &error)) {
@@ -134,7 +69,7 @@ class FeatureNodelet : public nodelet::Nodelet {
     CulledFeatures culled;
     FeatureFrame frame;
     try {
-      frame = extractor_.extract(gray, msg->header.stamp.toSec(), params, want_image ? &culled : nullptr);
+      frame = extractor_.extract(gray, msg->header.stamp.toSec(), p, want_image ? &culled : nullptr);
     } catch (const std::exception& e) {
       NODELET_ERROR_THROTTLE(5.0, "features: dropping frame (stamp %.3f): %s", msg->header.stamp.toSec(), e.what());
       return;
@@ -150,12 +85,11 @@ class FeatureNodelet : public nodelet::Nodelet {
       toMsg(frame, msg->header, out.get());
       features_pub_.publish(out);
     }
-    if (want_image) image_pub_.publish(debugImage(gray, frame, culled, msg->header, params.s_min));
+    if (want_image) image_pub_.publish(toImageMsg(debugImage(gray, frame, culled, p.s_min), msg->header));
   }
 
   // Kept keypoints coloured by stability S (red = s_min .. green = 1), culled ones in magenta.
-  static sensor_msgs::ImagePtr debugImage(const cv::Mat& gray, const FeatureFrame& f, const CulledFeatures& culled,
-                                          const std_msgs::Header& header, double s_min) {
+  static cv::Mat debugImage(const cv::Mat& gray, const FeatureFrame& f, const CulledFeatures& culled, double s_min) {
     cv::Mat bgr;
     cv::cvtColor(gray, bgr, cv::COLOR_GRAY2BGR);
     for (size_t i = 0; i < f.keypoints.size(); ++i) {
@@ -168,20 +102,9 @@ class FeatureNodelet : public nodelet::Nodelet {
     for (const cv::KeyPoint& k : culled.keypoints) {
       cv::drawMarker(bgr, k.pt, cv::Scalar(255, 0, 255), cv::MARKER_TILTED_CROSS, 6 + 2 * k.octave, 1);
     }
-    sensor_msgs::ImagePtr out = boost::make_shared<sensor_msgs::Image>();
-    out->header = header;
-    out->height = bgr.rows;
-    out->width = bgr.cols;
-    out->encoding = sensor_msgs::image_encodings::BGR8;
-    out->is_bigendian = false;
-    out->step = bgr.cols * 3;
-    out->data.resize(static_cast<size_t>(out->step) * bgr.rows);
-    for (int r = 0; r < bgr.rows; ++r)
-      std::copy(bgr.ptr<uint8_t>(r), bgr.ptr<uint8_t>(r) + out->step, &out->data[r * out->step]);
-    return out;
+    return bgr;
   }
 
-  using ReconfigureServer = dynamic_reconfigure::Server<iraf_vo::FeaturesConfig>;
   std::shared_ptr<image_transport::ImageTransport> it_;
   image_transport::Subscriber sub_;
   image_transport::Publisher image_pub_;
@@ -190,13 +113,6 @@ class FeatureNodelet : public nodelet::Nodelet {
   std::mutex brightness_mutex_;
   std::deque<std::pair<ros::Time, int>> brightness_;  // (stamp, EnhanceStats.brightness) of recent frames
   int queue_size_ = 5;
-  std::mutex connect_mutex_;
-
-  boost::recursive_mutex reconfigure_mutex_;
-  std::shared_ptr<ReconfigureServer> reconfigure_;
-  std::mutex params_mutex_;
-  FeatureParams params_;
-
   FeatureExtractor extractor_;  // used from imageCb only (one callback at a time per subscriber)
 };
 

@@ -10,6 +10,7 @@ void toMsg(const FeatureFrame& f, const std_msgs::Header& header, Features* m) {
   m->header = header;
   m->width = static_cast<uint32_t>(std::max(0, f.width));
   m->height = static_cast<uint32_t>(std::max(0, f.height));
+  m->scale_factor = f.scale_factor;
   const size_t n = f.keypoints.size();
   m->x.resize(n);
   m->y.resize(n);
@@ -49,7 +50,13 @@ void toMsg(const FeatureFrame& f, const std_msgs::Header& header, Features* m) {
   m->ms_cull = static_cast<float>(s.ms_cull);
 }
 
-bool fromMsg(const Features& m, FeatureFrame* f, std::string* error) {
+double scaleFactorFromSizes(const Features& m) {
+  for (size_t i = 0; i < m.octave.size() && i < m.size.size(); ++i)
+    if (m.octave[i] > 0 && m.size[i] > 31.0f) return std::pow(m.size[i] / 31.0, 1.0 / m.octave[i]);
+  return 0.0;
+}
+
+bool fromMsg(const Features& m, FeatureFrame* f, std::string* error, std::string* warning) {
   const size_t n = m.x.size();
   std::ostringstream e;
   if (m.y.size() != n || m.size.size() != n || m.angle.size() != n || m.response.size() != n ||
@@ -59,6 +66,8 @@ bool fromMsg(const Features& m, FeatureFrame* f, std::string* error) {
       << m.fast_threshold.size() << ", stability " << m.stability.size() << ")";
   else if (m.descriptors.size() != 32 * n)
     e << "descriptors has " << m.descriptors.size() << " bytes, expected 32 x " << n;
+  else if (m.scale_factor != 0.0 && !(m.scale_factor > 1.0 && m.scale_factor <= 4.0))
+    e << "scale_factor " << m.scale_factor << " is not in (1, 4]";
   else
     for (size_t i = 0; i < n; ++i)
       if (!std::isfinite(m.x[i]) || !std::isfinite(m.y[i])) {
@@ -73,6 +82,17 @@ bool fromMsg(const Features& m, FeatureFrame* f, std::string* error) {
   out.stamp = m.header.stamp.toSec();
   out.width = static_cast<int>(m.width);
   out.height = static_cast<int>(m.height);
+  out.scale_factor = m.scale_factor;
+  if (m.scale_factor == 0.0) {  // an older sender
+    const double estimate = scaleFactorFromSizes(m);
+    out.scale_factor = estimate > 1.0 && estimate <= 4.0 ? estimate : 1.2;
+    if (warning) {
+      std::ostringstream w;
+      w << "Features message without scale_factor: using " << out.scale_factor
+        << (estimate > 1.0 && estimate <= 4.0 ? " (from the keypoint sizes)" : " (the default)");
+      *warning = w.str();
+    }
+  }
   out.keypoints.resize(n);
   out.stability.assign(m.stability.begin(), m.stability.end());
   for (size_t i = 0; i < n; ++i) {

@@ -4,6 +4,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <sensor_msgs/image_encodings.h>
 
+#include <stdexcept>
+
 #include "iraf_vo/io/image_folder.h"
 
 namespace iraf_vo {
@@ -79,6 +81,12 @@ bool toMono8(const sensor_msgs::CompressedImage& msg, cv::Mat* gray, std::string
     return false;
   }
   return true;
+}
+
+sensor_msgs::ImagePtr toImageMsg(const cv::Mat& image, const std_msgs::Header& header) {
+  if (image.type() != CV_8UC1 && image.type() != CV_8UC3)
+    throw std::invalid_argument("toImageMsg: expected CV_8UC1 or CV_8UC3, got type " + std::to_string(image.type()));
+  return cv_bridge::CvImage(header, image.channels() == 1 ? enc::MONO8 : enc::BGR8, image).toImageMsg();
 }
 
 }  // namespace iraf_vo

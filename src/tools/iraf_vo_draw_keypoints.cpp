@@ -10,7 +10,6 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -18,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "iraf_vo/enhance/enhance_params_io.h"
+#include "iraf_vo/pipeline/pipeline_params.h"
 #include "iraf_vo/enhance/enhancer.h"
 #include "iraf_vo/features/feature_extractor.h"
 
@@ -95,49 +94,19 @@ int main(int argc, char** argv) {
     return 2;
   }
 
-  EnhanceParams ep;
-  ep.method = EnhanceMethod::kIraf;
-  FeatureParams fp;
+  PipelineParams params;  // the tracker section of --config / --set is checked but not used
   std::string err;
-  if (!config.empty()) {
-    YAML::Node root;
-    try {
-      root = YAML::LoadFile(config);
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "iraf_vo_draw_keypoints: --config %s: %s\n", config.c_str(), e.what());
-      return 2;
-    }
-    if (root["enhance"] && !loadEnhanceParams(root["enhance"], &ep, &err)) {
-      std::fprintf(stderr, "iraf_vo_draw_keypoints: %s: enhance: %s\n", config.c_str(), err.c_str());
-      return 2;
-    }
-    if (root["features"] && !loadFeatureParams(root["features"], &fp, &err)) {
-      std::fprintf(stderr, "iraf_vo_draw_keypoints: %s: features: %s\n", config.c_str(), err.c_str());
-      return 2;
-    }
+  if (!config.empty() && !loadPipelineConfig(config, &params, &err)) {
+    std::fprintf(stderr, "iraf_vo_draw_keypoints: --config %s\n", err.c_str());
+    return 2;
   }
-  for (const std::string& s : sets) {
-    const size_t dot = s.find('.'), eq = s.find('=');
-    if (dot == std::string::npos || eq == std::string::npos || eq < dot) {
-      std::fprintf(stderr, "iraf_vo_draw_keypoints: --set '%s': expected section.key=value\n", s.c_str());
-      return 2;
-    }
-    const std::string sec = s.substr(0, dot), key = s.substr(dot + 1, eq - dot - 1), val = s.substr(eq + 1);
-    bool ok = false;
-    if (sec == "enhance") {
-      ok = setEnhanceParam(&ep, key, val, &err);
-    } else if (sec == "features") {
-      YAML::Node n;
-      n[key] = YAML::Load(val);
-      ok = loadFeatureParams(n, &fp, &err);
-    } else {
-      err = "unknown section '" + sec + "' (enhance, features)";
-    }
-    if (!ok) {
+  for (const std::string& s : sets)
+    if (!applyPipelineSetting(s, &params, &err)) {
       std::fprintf(stderr, "iraf_vo_draw_keypoints: --set '%s': %s\n", s.c_str(), err.c_str());
       return 2;
     }
-  }
+  EnhanceParams& ep = params.enhance;
+  const FeatureParams& fp = params.features;
   ep.method = EnhanceMethod::kIraf;  // the right panel is always the full IRAF front-end
   for (const std::string& e : {validate(ep), validate(fp)})
     if (!e.empty()) {

@@ -41,6 +41,7 @@ struct Frame {
   long index = 0;
   double stamp = 0.0;
   std::vector<cv::KeyPoint> kps;
+  double scale_factor = 1.2;  // pyramid scale of kps (FeatureFrame::scale_factor)
   cv::Mat desc;
   std::vector<Eigen::Vector3d> bearings;
   std::vector<char> valid;
@@ -95,6 +96,7 @@ struct Keyframe {
   double stamp = 0.0;
   Eigen::Isometry3d T_c_w = Eigen::Isometry3d::Identity();
   std::vector<cv::KeyPoint> kps;  // immutable after creation
+  double scale_factor = 1.2;      // pyramid scale of kps
   cv::Mat desc;
   std::vector<Eigen::Vector3d> bearings;
   std::vector<char> valid;
@@ -229,6 +231,7 @@ struct Tracker::Impl {
       return false;
     }
     f->kps = in.keypoints;
+    f->scale_factor = in.scale_factor;
     f->desc = in.descriptors.isContinuous() ? in.descriptors : in.descriptors.clone();
     f->bearings.assign(n, Eigen::Vector3d::Zero());
     f->valid.assign(n, 0);
@@ -351,6 +354,7 @@ struct Tracker::Impl {
       kf->stamp = f.stamp;
       kf->T_c_w = T;
       kf->kps = f.kps;
+      kf->scale_factor = f.scale_factor;
       kf->desc = f.desc;
       kf->bearings = f.bearings;
       kf->valid = f.valid;
@@ -375,8 +379,8 @@ struct Tracker::Impl {
       bp.push_back(q);
       const cv::KeyPoint& k0 = ref.kps[mv[k].second];
       const cv::KeyPoint& k1 = cur.kps[mv[k].first];
-      bo.push_back({0, pi, Eigen::Vector2d(k0.pt.x, k0.pt.y), octaveSigma(p.scale_factor, k0.octave)});
-      bo.push_back({1, pi, Eigen::Vector2d(k1.pt.x, k1.pt.y), octaveSigma(p.scale_factor, k1.octave)});
+      bo.push_back({0, pi, Eigen::Vector2d(k0.pt.x, k0.pt.y), octaveSigma(ref.scale_factor, k0.octave)});
+      bo.push_back({1, pi, Eigen::Vector2d(k1.pt.x, k1.pt.y), octaveSigma(cur.scale_factor, k1.octave)});
       pt_match.push_back(mv[k]);
     }
     BAOptions bao;
@@ -466,7 +470,7 @@ struct Tracker::Impl {
       if (!cam->project(p_c, &uv)) continue;
       if (uv.x() < 0 || uv.y() < 0 || uv.x() >= w || uv.y() >= h) continue;
       if (visible) (*visible)[li] = 1;
-      const double r = radius * octaveSigma(p.scale_factor, lp.octave);
+      const double r = radius * octaveSigma(f.scale_factor, lp.octave);
       f.featuresInArea(uv.x(), uv.y(), r, lp.octave - octave_margin, lp.octave + octave_margin, &cand);
       int best = 256, best2 = 256, best_idx = -1, best_oct = -1, best2_oct = -1;
       for (int j : cand) {
@@ -513,7 +517,7 @@ struct Tracker::Impl {
       if (li < 0) continue;
       P.push_back(local[li].p_w);
       uv.emplace_back(f.kps[i].pt.x, f.kps[i].pt.y);
-      sg.push_back(octaveSigma(p.scale_factor, f.kps[i].octave));
+      sg.push_back(octaveSigma(f.scale_factor, f.kps[i].octave));
       kpi.push_back(static_cast<int>(i));
     }
     if (P.size() < 4) return 0;
@@ -684,6 +688,7 @@ struct Tracker::Impl {
     kf->stamp = f.stamp;
     kf->T_c_w = f.T_c_w;
     kf->kps = f.kps;
+    kf->scale_factor = f.scale_factor;
     kf->desc = f.desc;
     kf->bearings = f.bearings;
     kf->valid = f.valid;
@@ -870,7 +875,7 @@ struct Tracker::Impl {
           const int d = hamming(d1, k2.desc.ptr<uint8_t>(j));
           if (d >= best) continue;
           // eq.: |n . b2| = sin(angle to the epipolar plane); gate at 2 sigma (chi2 1 dof 3.84) in pixels
-          const double sig = octaveSigma(p.scale_factor, k2.kps[j].octave);
+          const double sig = octaveSigma(k2.scale_factor, k2.kps[j].octave);
           if (std::abs(n.dot(k2.bearings[j])) * f > 1.96 * sig) continue;
           best = d;
           best_j = j;
@@ -888,7 +893,7 @@ struct Tracker::Impl {
         if (r1.dot(r2) > cos_min_par) continue;
         const cv::KeyPoint& kp1 = kf->kps[i];
         const cv::KeyPoint& kp2 = k2.kps[j];
-        const double s1 = octaveSigma(p.scale_factor, kp1.octave), s2 = octaveSigma(p.scale_factor, kp2.octave);
+        const double s1 = octaveSigma(kf->scale_factor, kp1.octave), s2 = octaveSigma(k2.scale_factor, kp2.octave);
         const double e1 = reprojectionError2(*cam, T1, X, Eigen::Vector2d(kp1.pt.x, kp1.pt.y));
         const double e2 = reprojectionError2(*cam, nb.T, X, Eigen::Vector2d(kp2.pt.x, kp2.pt.y));
         if (e1 < 0 || e2 < 0 || e1 > kChi2 * s1 * s1 || e2 > kChi2 * s2 * s2) continue;
@@ -971,7 +976,7 @@ struct Tracker::Impl {
           }
           const cv::KeyPoint& kp = k->second->kps[o.second];
           bo.push_back({kidx, static_cast<int>(pi), Eigen::Vector2d(kp.pt.x, kp.pt.y),
-                        octaveSigma(p.scale_factor, kp.octave)});
+                        octaveSigma(k->second->scale_factor, kp.octave)});
           obs_ref.emplace_back(o.first, o.second);
         }
       }

@@ -7,7 +7,6 @@ namespace iraf_vo {
 
 std::string validate(const TrackerParams& p) {
   auto bad = [](const std::string& k, const std::string& why) { return "TrackerParams." + k + ": " + why; };
-  if (!(p.scale_factor > 1.0 && p.scale_factor < 3.0)) return bad("scale_factor", "must be in (1, 3)");
   // Fields bounded below only: +inf passed and reached int casts (e.g. search radius / cell -> grid index).
   for (const auto& kv : {std::make_pair("init_threshold_px", p.init_threshold_px),
                          std::make_pair("init_min_parallax_deg", p.init_min_parallax_deg),

@@ -1,136 +1,98 @@
 #include <iraf_vo/tracking/tracker_params_io.h>
 
-#include <yaml-cpp/yaml.h>
-
-#include <cmath>
-#include <cstdlib>
-#include <functional>
-#include <map>
-
 namespace iraf_vo {
 
-namespace {
-
-using Setter = std::function<bool(TrackerParams*, const std::string&)>;
-
-bool parseInt(const std::string& s, int* v) {
-  char* end = nullptr;
-  const long x = std::strtol(s.c_str(), &end, 10);
-  if (s.empty() || !end || *end != '\0') return false;
-  *v = static_cast<int>(x);
-  return true;
+const ParamTable<TrackerParams>& trackerParamTable() {
+  using P = TrackerParams;
+  static const ParamTable<P> table(
+      "tracker",
+      {
+          intParam("init_min_features", &P::init_min_features, 8, 10000, "Keypoints a reference frame needs"),
+          intParam("init_min_matches", &P::init_min_matches, 8, 10000,
+                   "Fewer matches to the reference -> new reference"),
+          intParam("init_max_frames", &P::init_max_frames, 1, 1000, "Reference older than this -> new reference"),
+          doubleParam("init_threshold_px", &P::init_threshold_px, 0.1, 10.0, "H / E RANSAC and scoring threshold [px]"),
+          doubleParam("init_min_parallax_deg", &P::init_min_parallax_deg, 0.0, 20.0,
+                      "Median parallax of the triangulated points [deg]"),
+          intParam("init_min_triangulated", &P::init_min_triangulated, 8, 10000, "Points the initial map needs"),
+          doubleParam("init_homography_ratio", &P::init_homography_ratio, 0.0, 1.0,
+                      "R_H = S_H / (S_H + S_F) above this -> homography (ORB-SLAM 0.45)"),
+          doubleParam("init_match_ratio", &P::init_match_ratio, 0.1, 1.0, "Lowe ratio of the initialization matching"),
+          intParam("match_threshold_high", &P::match_threshold_high, 1, 256,
+                   "Hamming threshold of the projection search (ORB-SLAM TH_HIGH)"),
+          intParam("match_threshold_low", &P::match_threshold_low, 1, 256,
+                   "Hamming threshold of triangulation matching (ORB-SLAM TH_LOW)"),
+          doubleParam("match_ratio", &P::match_ratio, 0.1, 1.0,
+                      "Best / second best in the projection search (same octave)"),
+          doubleParam("search_radius_px", &P::search_radius_px, 1.0, 200.0,
+                      "Projection search window at octave 0 [px] (x scale_factor^octave of the features)"),
+          doubleParam("search_radius_wide_px", &P::search_radius_wide_px, 1.0, 400.0,
+                      "Fallback window when too few matches [px]"),
+          doubleParam("search_radius_refine_px", &P::search_radius_refine_px, 0.5, 100.0,
+                      "Second pass after the pose refinement [px]"),
+          intParam("min_search_matches", &P::min_search_matches, 4, 10000,
+                   "Fewer -> wider window, then brute force + PnP"),
+          boolParam("check_orientation", &P::check_orientation,
+                    "Rotation-consistency histogram in brute-force matching"),
+          doubleParam("pnp_threshold_px", &P::pnp_threshold_px, 0.1, 50.0, "PnP RANSAC threshold [px]"),
+          intParam("pnp_iterations", &P::pnp_iterations, 10, 10000, "PnP RANSAC iterations"),
+          intParam("pose_rounds", &P::pose_rounds, 1, 10, "Pose refinement rounds (solve, chi2 outlier test)"),
+          intParam("pose_max_iterations", &P::pose_max_iterations, 1, 100, "LM iterations per round"),
+          boolParam("pose_use_ceres", &P::pose_use_ceres,
+                    "Pose-only refinement with ceres::Solve instead of the 6x6 LM"),
+          intParam("min_tracking_inliers", &P::min_tracking_inliers, 6, 10000, "Fewer inliers -> frame lost"),
+          doubleParam("keyframe_tracked_ratio", &P::keyframe_tracked_ratio, 0.01, 1.0,
+                      "New keyframe when inliers < ratio x reference keyframe's points (ORB-SLAM mono 0.9)"),
+          intParam("keyframe_min_tracked", &P::keyframe_min_tracked, 0, 10000,
+                   "New keyframe when inliers drop below this"),
+          intParam("min_frames_between_keyframes", &P::min_frames_between_keyframes, 0, 1000,
+                   "Minimum frames between keyframes"),
+          intParam("max_frames_between_keyframes", &P::max_frames_between_keyframes, 1, 1000,
+                   "Keyframe timeout [frames]"),
+          boolParam("mapping_thread", &P::mapping_thread,
+                    "Local mapping + BA on its own thread (false: synchronous, deterministic)"),
+          intParam("starving_inliers", &P::starving_inliers, 0, 10000,
+                   "Keyframe with fewer inliers: the tracking thread triangulates its new points itself (never waits "
+                   "for BA)"),
+          intParam("sync_mapping_busy_frames", &P::sync_mapping_busy_frames, 0, 100,
+                   "mapping_thread off: mapping counts as busy this many frames after a keyframe"),
+          intParam("num_triangulation_neighbors", &P::num_triangulation_neighbors, 1, 50,
+                   "Covisible keyframes used for new points"),
+          doubleParam("min_triangulation_parallax_deg", &P::min_triangulation_parallax_deg, 0.0, 30.0,
+                      "Minimum parallax of a new point [deg]"),
+          doubleParam("min_found_ratio", &P::min_found_ratio, 0.0, 1.0,
+                      "Cull recent points found in fewer than this fraction of the frames that saw them"),
+          intParam("ba_window_size", &P::ba_window_size, 2, 100, "Keyframes optimized by the sliding-window BA"),
+          intParam("max_map_keyframes", &P::max_map_keyframes, 2, 1000,
+                   "Keyframes kept in the map (older are dropped; >= ba_window_size)"),
+          intParam("ba_max_num_iterations", &P::ba_max_num_iterations, 0, 200, "Ceres iterations per BA"),
+          doubleParam("ba_max_solver_time_in_seconds", &P::ba_max_solver_time_in_seconds, 0.001, 10.0,
+                      "Ceres time budget per BA [s]"),
+          intParam("max_pending_keyframes", &P::max_pending_keyframes, 0, 100,
+                   "Keyframe queue bound: inserting waits while this many are queued (0 = unbounded)"),
+          intParam("ba_every_keyframes", &P::ba_every_keyframes, 1, 100,
+                   "BA at least every this many keyframes even when more are queued"),
+          doubleParam("ba_min_fixed_span", &P::ba_min_fixed_span, 0.0, 1.0,
+                      "Gauge: fixed keyframe centres must span this fraction of the window extent"),
+          boolParam("ba_abort_on_keyframe", &P::ba_abort_on_keyframe,
+                    "A queued keyframe aborts a running BA (ORB-SLAM); off: BA runs to its budget"),
+          doubleParam("ba_huber_delta", &P::ba_huber_delta, 0.1, 100.0,
+                      "Huber threshold on the sigma-normalized residual (sqrt(5.991))"),
+          intParam("lost_frames_before_reset", &P::lost_frames_before_reset, 0, 1000,
+                   "Consecutive lost frames (relocalization attempts) before the map is reset"),
+      },
+      validate);
+  return table;
 }
-bool parseDouble(const std::string& s, double* v) {
-  char* end = nullptr;
-  *v = std::strtod(s.c_str(), &end);
-  return !s.empty() && end && *end == '\0' && std::isfinite(*v);
-}
-bool parseBool(const std::string& s, bool* v) {
-  if (s == "true" || s == "1" || s == "True" || s == "TRUE") return (*v = true), true;
-  if (s == "false" || s == "0" || s == "False" || s == "FALSE") return (*v = false), true;
-  return false;
-}
-
-const std::map<std::string, Setter>& setters() {
-  static const std::map<std::string, Setter> m = [] {
-    std::map<std::string, Setter> s;
-#define IRAF_INT(name) s[#name] = [](TrackerParams* p, const std::string& v) { return parseInt(v, &p->name); };
-#define IRAF_DBL(name) s[#name] = [](TrackerParams* p, const std::string& v) { return parseDouble(v, &p->name); };
-#define IRAF_BOOL(name) s[#name] = [](TrackerParams* p, const std::string& v) { return parseBool(v, &p->name); };
-    IRAF_DBL(scale_factor)
-    IRAF_INT(init_min_features)
-    IRAF_INT(init_min_matches)
-    IRAF_INT(init_max_frames)
-    IRAF_DBL(init_threshold_px)
-    IRAF_DBL(init_min_parallax_deg)
-    IRAF_INT(init_min_triangulated)
-    IRAF_DBL(init_homography_ratio)
-    IRAF_DBL(init_match_ratio)
-    IRAF_INT(match_threshold_high)
-    IRAF_INT(match_threshold_low)
-    IRAF_DBL(match_ratio)
-    IRAF_DBL(search_radius_px)
-    IRAF_DBL(search_radius_wide_px)
-    IRAF_DBL(search_radius_refine_px)
-    IRAF_INT(min_search_matches)
-    IRAF_BOOL(check_orientation)
-    IRAF_DBL(pnp_threshold_px)
-    IRAF_INT(pnp_iterations)
-    IRAF_INT(pose_rounds)
-    IRAF_INT(pose_max_iterations)
-    IRAF_BOOL(pose_use_ceres)
-    IRAF_INT(min_tracking_inliers)
-    IRAF_DBL(keyframe_tracked_ratio)
-    IRAF_INT(keyframe_min_tracked)
-    IRAF_INT(min_frames_between_keyframes)
-    IRAF_INT(max_frames_between_keyframes)
-    IRAF_BOOL(mapping_thread)
-    IRAF_INT(starving_inliers)
-    IRAF_INT(sync_mapping_busy_frames)
-    IRAF_INT(num_triangulation_neighbors)
-    IRAF_DBL(min_triangulation_parallax_deg)
-    IRAF_DBL(min_found_ratio)
-    IRAF_INT(ba_window_size)
-    IRAF_INT(max_map_keyframes)
-    IRAF_INT(ba_max_num_iterations)
-    IRAF_DBL(ba_max_solver_time_in_seconds)
-    IRAF_DBL(ba_huber_delta)
-    IRAF_BOOL(ba_abort_on_keyframe)
-    IRAF_DBL(ba_min_fixed_span)
-    IRAF_INT(ba_every_keyframes)
-    IRAF_INT(max_pending_keyframes)
-    IRAF_INT(lost_frames_before_reset)
-#undef IRAF_INT
-#undef IRAF_DBL
-#undef IRAF_BOOL
-    return s;
-  }();
-  return m;
-}
-
-}  // namespace
 
 bool setTrackerParam(TrackerParams* p, const std::string& key, const std::string& value, std::string* error) {
-  const auto it = setters().find(key);
-  if (it == setters().end()) {
-    if (error) *error = "unknown tracker parameter '" + key + "'";
-    return false;
-  }
-  if (!it->second(p, value)) {
-    if (error) *error = "tracker parameter '" + key + "': cannot parse value '" + value + "'";
-    return false;
-  }
-  return true;
+  return trackerParamTable().set(p, key, value, error);
 }
 
-std::vector<std::string> trackerParamNames() {
-  std::vector<std::string> out;
-  for (const auto& kv : setters()) out.push_back(kv.first);
-  return out;
-}
+std::vector<std::string> trackerParamNames() { return trackerParamTable().names(); }
 
 bool loadTrackerParams(const YAML::Node& node, TrackerParams* p, std::string* error) {
-  if (!node || node.IsNull()) return true;
-  if (!node.IsMap()) {
-    if (error) *error = "tracker parameters: expected a map of key: value";
-    return false;
-  }
-  TrackerParams tmp = *p;
-  for (const auto& kv : node) {
-    const std::string key = kv.first.as<std::string>("");  // fallback: a non-scalar key (e.g. "? ? 4") threw
-    if (!kv.second.IsScalar()) {
-      if (error) *error = "tracker parameter '" + key + "': expected a scalar value";
-      return false;
-    }
-    if (!setTrackerParam(&tmp, key, kv.second.as<std::string>(), error)) return false;
-  }
-  const std::string v = validate(tmp);
-  if (!v.empty()) {
-    if (error) *error = v;
-    return false;
-  }
-  *p = tmp;
-  return true;
+  return trackerParamTable().load(node, p, error);
 }
 
 }  // namespace iraf_vo

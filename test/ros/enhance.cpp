@@ -112,7 +112,7 @@ TEST_F(EnhanceNodeletTest, LazySubscriptionEncodingsBadInputAndLiveTuning) {
   const cv::Mat img = iraf_vo_test::texturedImage(160, 120);
   uint32_t id = 1;
   // Every accepted encoding arrives as mono8 with the input header.
-  for (const std::string e : {enc::MONO8, enc::MONO16, enc::BGR8, enc::RGB8, enc::BGRA8}) {
+  for (const std::string& e : {enc::MONO8, enc::MONO16, enc::BGR8, enc::RGB8, enc::BGRA8}) {
     const auto out = roundTrip(img, e, id);
     ASSERT_TRUE(out) << "no output for encoding " << e;
     EXPECT_EQ(out->header.stamp, stampOf(id)) << e;

@@ -18,7 +18,13 @@
 #include "iraf_vo/EnhanceStats.h"
 #include "iraf_vo/Features.h"
 #include "iraf_vo/FeaturesConfig.h"
+#include "iraf_vo/EnhanceConfig.h"
+#include "iraf_vo/TrackerConfig.h"
+#include "iraf_vo/enhance/enhance_params_io.h"
+#include "iraf_vo/features/feature_params.h"
 #include "iraf_vo/ros/feature_conversion.h"
+#include "iraf_vo/tracking/tracker_params_io.h"
+#include "../../src/nodelets/param_bridge.h"
 
 namespace enc = sensor_msgs::image_encodings;
 
@@ -208,6 +214,7 @@ TEST(FeatureConversion, RoundTripAndInconsistentMessages) {
   f.stats.culled = 3;
   f.stats.detected = 5;
   f.stats.brightness = -1;
+  f.scale_factor = 1.3;
   std_msgs::Header h;
   h.stamp = ros::Time(12.5);
   iraf_vo::Features m;
@@ -227,8 +234,25 @@ TEST(FeatureConversion, RoundTripAndInconsistentMessages) {
   EXPECT_DOUBLE_EQ(g.stats.global_threshold, 19.5);
   EXPECT_EQ(g.stats.culled, 3);
   EXPECT_EQ(g.stats.brightness, -1);
+  EXPECT_DOUBLE_EQ(m.scale_factor, 1.3);
+  EXPECT_DOUBLE_EQ(g.scale_factor, 1.3);  // the pyramid scale travels with the features
+
+  // A sender without scale_factor (0): estimated from the keypoint sizes (37.2 = 31 * 1.2 at octave 1), warned.
+  iraf_vo::Features old = m;
+  old.scale_factor = 0.0;
+  std::string warning;
+  ASSERT_TRUE(iraf_vo::fromMsg(old, &g, &err, &warning)) << err;
+  EXPECT_NEAR(g.scale_factor, 1.2, 1e-5);
+  EXPECT_NE(warning.find("scale_factor"), std::string::npos) << warning;
+  old.octave = {0, 0};  // nothing to estimate from: the ORB-SLAM default
+  ASSERT_TRUE(iraf_vo::fromMsg(old, &g, &err, &warning)) << err;
+  EXPECT_DOUBLE_EQ(g.scale_factor, 1.2);
 
   iraf_vo::Features bad = m;
+  bad.scale_factor = 0.5;
+  EXPECT_FALSE(iraf_vo::fromMsg(bad, &g, &err));
+  EXPECT_NE(err.find("scale_factor"), std::string::npos) << err;
+  bad = m;
   bad.y.pop_back();
   EXPECT_FALSE(iraf_vo::fromMsg(bad, &g, &err));
   EXPECT_NE(err.find("differ in length"), std::string::npos) << err;
@@ -240,6 +264,50 @@ TEST(FeatureConversion, RoundTripAndInconsistentMessages) {
   bad.x[1] = std::nanf("");
   EXPECT_FALSE(iraf_vo::fromMsg(bad, &g, &err));
   EXPECT_NE(err.find("non-finite"), std::string::npos) << err;
+}
+
+// The typed dynamic_reconfigure bridge of the stage nodelets (src/nodelets/param_bridge.h): the generated Configs'
+// defaults become the structs' defaults for every table entry, without errors; odd fields are rounded up; a bad enum
+// name keeps the previous value and names the parameter.
+template <class S, class Config>
+void expectConfigDefaultsAreStructDefaults(const iraf_vo::ParamTable<S>& table) {
+  S p;
+  std::vector<std::string> errors;
+  iraf_vo::configToParams(table, Config::__getDefault__(), &p, &errors);
+  EXPECT_TRUE(errors.empty()) << errors.front();
+  const S defaults{};
+  for (const iraf_vo::ParamEntry<S>& e : table.entries()) EXPECT_EQ(table.get(p, e), table.get(defaults, e)) << e.name;
+}
+
+TEST(ParamBridge, ConfigsMapOntoTheParameterTables) {
+  expectConfigDefaultsAreStructDefaults<iraf_vo::EnhanceParams, iraf_vo::EnhanceConfig>(iraf_vo::enhanceParamTable());
+  expectConfigDefaultsAreStructDefaults<iraf_vo::FeatureParams, iraf_vo::FeaturesConfig>(iraf_vo::featureParamTable());
+  expectConfigDefaultsAreStructDefaults<iraf_vo::TrackerParams, iraf_vo::TrackerConfig>(iraf_vo::trackerParamTable());
+
+  iraf_vo::FeaturesConfig fc = iraf_vo::FeaturesConfig::__getDefault__();
+  fc.center_window = 4;
+  fc.ini_th_fast = 33;
+  fc.culling = false;
+  fc.h_th = 9.5;
+  iraf_vo::FeatureParams fp;
+  std::vector<std::string> errors;
+  iraf_vo::configToParams(iraf_vo::featureParamTable(), fc, &fp, &errors);
+  EXPECT_TRUE(errors.empty());
+  EXPECT_EQ(fp.center_window, 5);  // sliders may give even sizes: rounded up to odd
+  EXPECT_EQ(fp.ini_th_fast, 33);
+  EXPECT_FALSE(fp.culling);
+  EXPECT_DOUBLE_EQ(fp.h_th, 9.5);
+
+  iraf_vo::EnhanceConfig ec = iraf_vo::EnhanceConfig::__getDefault__();
+  ec.method = "fancy";
+  ec.mu_expected = 80.0;
+  iraf_vo::EnhanceParams ep;
+  ep.method = iraf_vo::EnhanceMethod::kClahe;
+  iraf_vo::configToParams(iraf_vo::enhanceParamTable(), ec, &ep, &errors);
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_NE(errors[0].find("fancy"), std::string::npos) << errors[0];
+  EXPECT_EQ(ep.method, iraf_vo::EnhanceMethod::kClahe);  // kept
+  EXPECT_DOUBLE_EQ(ep.mu_expected, 80.0);               // the other fields still apply
 }
 
 int main(int argc, char** argv) {

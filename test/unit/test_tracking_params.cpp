@@ -1,15 +1,9 @@
-// TrackerParams: validation, YAML loading, and cfg/Tracker.cfg naming / defaults consistency.
+// TrackerParams: validation and YAML loading.
 #include <gtest/gtest.h>
 #include <iraf_vo/tracking/tracker.h>
 #include <iraf_vo/tracking/tracker_params_io.h>
 #include <yaml-cpp/yaml.h>
 
-#include <cstring>
-#include <fstream>
-#include <new>
-#include <regex>
-#include <set>
-#include <sstream>
 
 using namespace iraf_vo;
 
@@ -42,31 +36,4 @@ TEST(TrackerParams, YamlLoading) {
   EXPECT_EQ(q.ba_window_size, TrackerParams().ba_window_size);  // unchanged on failure
 }
 
-// Every cfg parameter is a TrackerParams field with the same default, and every field is in the cfg.
-TEST(TrackerParams, CfgMatchesStruct) {
-  std::ifstream f(std::string(IRAF_VO_SOURCE_DIR) + "/cfg/Tracker.cfg");
-  ASSERT_TRUE(f.good());
-  std::stringstream ss;
-  ss << f.rdbuf();
-  const std::string text = ss.str();
-  const std::regex add(R"re(\.add\("(\w+)",\s*(\w+),\s*0,\s*"[^"]*",\s*([^,\)]+))re");
-  std::set<std::string> in_cfg;
-  for (auto it = std::sregex_iterator(text.begin(), text.end(), add); it != std::sregex_iterator(); ++it) {
-    const std::string name = (*it)[1], type = (*it)[2];
-    std::string def = (*it)[3];
-    in_cfg.insert(name);
-    // Setting the cfg default on a default struct must be accepted and leave it equal to the default.
-    // Zeroed storage so padding bytes compare equal (the constructor only writes the fields).
-    alignas(TrackerParams) unsigned char sa[sizeof(TrackerParams)], sb[sizeof(TrackerParams)];
-    std::memset(sa, 0, sizeof(sa));
-    std::memset(sb, 0, sizeof(sb));
-    TrackerParams& a = *new (sa) TrackerParams();
-    TrackerParams& b = *new (sb) TrackerParams();
-    std::string err;
-    if (type == "bool_t") def = def == "True" ? "true" : "false";
-    ASSERT_TRUE(setTrackerParam(&a, name, def, &err)) << name << ": " << err;
-    EXPECT_EQ(std::memcmp(&a, &b, sizeof(TrackerParams)), 0) << name << " default differs from the cfg (" << def << ")";
-  }
-  for (const std::string& n : trackerParamNames()) EXPECT_TRUE(in_cfg.count(n)) << n << " missing in cfg/Tracker.cfg";
-  EXPECT_EQ(in_cfg.size(), trackerParamNames().size());
-}
+// cfg/Tracker.cfg == table == struct defaults: test_params.cpp (ParamTables.TrackerCfgEqualsTableEqualsStruct).

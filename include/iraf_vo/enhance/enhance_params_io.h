@@ -1,17 +1,17 @@
-// Setting EnhanceParams by name: from YAML files (ov_core style) and from `--set key=value` on the
-// command line. The names are the field names, which are also the cfg/Enhance.cfg parameter names.
+// The parameter table of EnhanceParams (common/param_table.h): names = field names = cfg/Enhance.cfg parameters =
+// YAML `enhance:` keys = `--set enhance.key=value`. ROS-free.
 #pragma once
 
 #include <string>
 #include <vector>
 
+#include "iraf_vo/common/param_table.h"
 #include "iraf_vo/enhance/enhancer.h"
 
-namespace YAML {
-class Node;
-}
-
 namespace iraf_vo {
+
+/// Every EnhanceParams field with its cfg range and doc (cfg/Enhance.cfg also has the nodelet's `enabled`).
+const ParamTable<EnhanceParams>& enhanceParamTable();
 
 /// Sets one field by name from its text value. Returns false (error names key and value) when the
 /// key is unknown or the value does not parse.

@@ -14,7 +14,13 @@ namespace iraf_vo {
 void toMsg(const FeatureFrame& frame, const std_msgs::Header& header, Features* msg);
 
 /// Rebuilds a core FeatureFrame (stamp = header.stamp in seconds). Returns false and fills *error when the
-/// arrays are inconsistent (lengths differ, descriptors not N x 32, non-finite coordinates).
-bool fromMsg(const Features& msg, FeatureFrame* frame, std::string* error);
+/// arrays are inconsistent (lengths differ, descriptors not N x 32, non-finite coordinates) or scale_factor is not in
+/// (1, 4]. scale_factor 0 (a sender that does not fill it): estimated from the keypoint sizes (31 scale^octave), else
+/// 1.2, with a note in *warning.
+bool fromMsg(const Features& msg, FeatureFrame* frame, std::string* error, std::string* warning = nullptr);
+
+/// The pyramid scale implied by the keypoint sizes (size = 31 * scale^octave, the first keypoint with octave > 0);
+/// 0 when no keypoint tells.
+double scaleFactorFromSizes(const Features& msg);
 
 }  // namespace iraf_vo

@@ -7,8 +7,6 @@ namespace iraf_vo {
 
 /// Field names = the parameters of cfg/Tracker.cfg and the YAML `tracker:` section.
 struct TrackerParams {
-  // ---- features / pyramid ----
-  double scale_factor = 1.2;            // ORB pyramid scale: sigma of octave o = scale_factor^o pixels
   // ---- initialization ----
   int init_min_features = 100;          // a reference frame needs at least this many keypoints
   int init_min_matches = 100;           // fewer matches to the reference -> new reference
@@ -22,7 +20,7 @@ struct TrackerParams {
   int match_threshold_high = 100;       // Hamming, projection search (ORB-SLAM TH_HIGH)
   int match_threshold_low = 50;         // Hamming, triangulation / brute force (ORB-SLAM TH_LOW)
   double match_ratio = 0.8;             // best / second-best (same octave) in projection search
-  double search_radius_px = 15.0;       // projection search window at octave 0 (times scale_factor^octave)
+  double search_radius_px = 15.0;       // projection search window at octave 0 (times FeatureFrame::scale_factor^octave)
   double search_radius_wide_px = 40.0;  // fallback window
   double search_radius_refine_px = 4.0; // second pass after the pose refinement
   int min_search_matches = 30;          // fewer -> widen the window, then PnP fallback

@@ -1,16 +1,17 @@
-// YAML loading of TrackerParams (keys = field names = cfg/Tracker.cfg names). ROS-free.
+// The parameter table of TrackerParams (common/param_table.h): names = field names = cfg/Tracker.cfg parameters =
+// YAML `tracker:` keys = `--set tracker.key=value` = the tracker nodelet's private parameters. ROS-free.
 #pragma once
 
-#include <iraf_vo/tracking/tracker.h>
+#include <iraf_vo/common/param_table.h>
+#include <iraf_vo/tracking/tracker_params.h>
 
 #include <string>
 #include <vector>
 
-namespace YAML {
-class Node;
-}
-
 namespace iraf_vo {
+
+/// Every TrackerParams field with its cfg/Tracker.cfg range and doc.
+const ParamTable<TrackerParams>& trackerParamTable();
 
 /// Sets one field from its text value ("ba_window_size", "12"). false + *error naming key and value.
 bool setTrackerParam(TrackerParams* p, const std::string& key, const std::string& value, std::string* error);

@@ -1,0 +1,98 @@
+// The offline pipeline of iraf_vo_run: a reader thread (image decoding) -> a front-end thread (enhance + features)
+// -> the caller's thread (tracking), connected by bounded queues so that the stages overlap. ROS-free: images come
+// from a FrameSource (an ASL folder here, a rosbag in iraf_vo_run).
+#pragma once
+
+#include <atomic>
+#include <opencv2/core.hpp>
+#include <string>
+#include <thread>
+
+#include "iraf_vo/common/bounded_queue.h"
+#include "iraf_vo/io/image_folder.h"
+#include "iraf_vo/pipeline/front_end.h"
+
+namespace iraf_vo {
+
+struct SourceImage {
+  double stamp = 0.0;  // seconds
+  cv::Mat gray;        // CV_8UC1
+  std::string error;   // not empty: the image is unreadable (the frame is skipped)
+};
+
+/// A sequence of images read in order.
+class FrameSource {
+ public:
+  virtual ~FrameSource() = default;
+  virtual size_t size() const = 0;
+  /// Reads frame `index`; indices increase by one per call (frames before the first index are skipped).
+  /// false when the source ended.
+  virtual bool read(long index, SourceImage* out) = 0;
+  /// Names frame `index` in messages (its file, or the bag and topic).
+  virtual std::string describe(long index) const = 0;
+};
+
+/// The images of an ASL folder (DIR/mav0/cam0).
+class AslFrameSource : public FrameSource {
+ public:
+  explicit AslFrameSource(const AslImageReader* reader) : reader_(reader) {}
+  size_t size() const override { return reader_->size(); }
+  bool read(long index, SourceImage* out) override;
+  std::string describe(long index) const override;
+
+ private:
+  const AslImageReader* reader_;
+};
+
+struct PipelineOptions {
+  long first = 0;  // frames [first, last)
+  long last = 0;
+  int width = 0, height = 0;  // the camera's image size: another size stops the run (fatal)
+  std::string camera_name;    // for that message
+  size_t queue_capacity = 4;
+};
+
+/// One frame leaving the front-end, in frame order.
+struct FrontEndItem {
+  long index = 0;
+  FeatureFrame frame;
+  double ms_read = 0, ms_enhance = 0, ms_features = 0;
+  bool error = false;  // unreadable image or front-end failure: skip the frame
+  bool fatal = false;  // stop the run (image size != camera size)
+  std::string message;
+};
+
+class OfflinePipeline {
+ public:
+  /// Starts the reader and front-end threads. `source` must outlive the pipeline.
+  OfflinePipeline(FrameSource* source, const EnhanceParams& enhance, const FeatureParams& features,
+                  const PipelineOptions& options);
+  ~OfflinePipeline();  // stop()
+  OfflinePipeline(const OfflinePipeline&) = delete;
+  OfflinePipeline& operator=(const OfflinePipeline&) = delete;
+
+  /// The next frame; false after the last one.
+  bool next(FrontEndItem* item);
+  /// Stops and joins the threads (early stop: queued frames are dropped).
+  void stop();
+
+ private:
+  struct ReadItem {
+    long index = 0;
+    SourceImage image;
+    double ms_read = 0;
+    bool end = false, fatal = false;
+  };
+  void readFrames();
+  void runFrontEnd();
+
+  FrameSource* source_;
+  PipelineOptions options_;
+  FrontEnd front_end_;
+  BoundedQueue<ReadItem> read_queue_;
+  BoundedQueue<FrontEndItem> front_queue_;
+  std::atomic<bool> stop_{false};
+  std::thread reader_, front_;
+};
+
+}  // namespace iraf_vo

@@ -1,0 +1,108 @@
+// The run rules of a live tracker (used by TrackerNodelet; ROS-free): stamp checks, when parameter changes and
+// restarts take effect, the anchor that keeps the published trajectory continuous across restarts, the recorded
+// trajectory and the counters over every tracker of the session.
+//
+// Timestamps (never crash, always report):
+//   * stamp == last stamp: duplicate, dropped.
+//   * last - max_out_of_order < stamp < last: late / out-of-order frame, dropped.
+//   * stamp <= last - max_out_of_order (a bag looped or was restarted): new tracker (new map, its world frame = the
+//     first camera again); the recorded trajectory restarts.
+// Parameters: the core Tracker takes its parameters at construction. setParams() is applied at once (new tracker)
+// while nothing is tracked yet / the tracker is lost; while tracking it waits for the next restart (time jump, or
+// requestRestart(): restarts on the next frame). A restart while tracking re-anchors the new map at the last
+// published pose, so the trajectory continues (scale of the new map: median depth 1 again).
+#pragma once
+
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "iraf_vo/camera/camera_model.h"
+#include "iraf_vo/features/feature_frame.h"
+#include "iraf_vo/io/trajectory.h"
+#include "iraf_vo/tracking/tracker.h"
+
+namespace iraf_vo {
+
+struct SessionOptions {
+  double max_out_of_order = 1.0;    // [s] older stamps within this window are dropped, older ones restart the map
+  std::string trajectory_file;      // TUM file of the recorded trajectory ("" = none)
+  bool save_every_keyframe = true;  // rewrite trajectory_file at every keyframe
+};
+
+/// Counters over every tracker of the session.
+struct SessionCounters {
+  long frames = 0, tracked = 0, lost_frames = 0, lost_events = 0, keyframes = 0, dropped = 0;
+  long resets = 0;                        // map resets inside the core trackers + session restarts
+  long time_resets = 0;                   // restarts after a time jump back
+  int map_points = 0, map_keyframes = 0;  // of the last published map
+};
+
+struct SessionMessage {
+  enum class Level { kInfo, kWarn, kError };
+  Level level = Level::kInfo;
+  std::string text;
+};
+
+/// What one frame produced: what to publish and what to log.
+struct SessionStep {
+  bool tracked_frame = false;  // false: the frame was dropped (messages say why)
+  bool time_jump = false;      // the map and the recorded trajectory restarted: restart published paths too
+  TrackResult result;
+  bool has_pose = false;                                             // result.state == kTracking
+  Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();  // anchored
+  bool map_changed = false;                       // keyframe or initialization: map_points / keyframe_poses are set
+  std::vector<Eigen::Vector3d> map_points;        // anchored
+  std::vector<Eigen::Isometry3d> keyframe_poses;  // anchored T_world_camera, oldest first
+  SessionCounters counters;
+  std::vector<SessionMessage> messages;
+};
+
+class TrackingSession {
+ public:
+  /// Throws std::invalid_argument for a null camera.
+  TrackingSession(CameraModelPtr camera, const TrackerParams& params, const SessionOptions& options);
+  ~TrackingSession();
+
+  /// One frame. `frame` null: it could not be decoded (`frame_error` says why): the stamp rules still apply, then it
+  /// is dropped.
+  SessionStep process(int64_t stamp_ns, const FeatureFrame* frame, const std::string& frame_error = "");
+
+  /// New parameters (validated by the caller): applied at the next frame unless tracking, else at the next restart.
+  void setParams(const TrackerParams& params);
+  /// Restart (new map, trajectory continues) at the next frame.
+  void requestRestart();
+
+  /// The parameters of the current tracker (setParams() values once applied).
+  const TrackerParams& params() const { return params_; }
+  const Trajectory& trajectory() const { return trajectory_; }
+  /// Writes the recorded trajectory to options.trajectory_file. false + *error.
+  bool saveTrajectory(std::string* error) const;
+  SessionCounters counters() const;
+
+ private:
+  void drop(SessionStep* step, SessionMessage::Level level, const std::string& why);
+  void createTracker(const Eigen::Isometry3d& anchor, SessionStep* step);
+  void restartAfterTimeJump(int64_t stamp_ns, SessionStep* step);
+  void countFrame(const TrackResult& r);
+  void collectMap(SessionStep* step);
+
+  CameraModelPtr camera_;
+  SessionOptions options_;
+  TrackerParams params_, pending_params_;
+  bool params_dirty_ = false, restart_requested_ = false;
+  std::unique_ptr<Tracker> tracker_;
+  Eigen::Isometry3d anchor_ = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d last_published_ = Eigen::Isometry3d::Identity();
+  bool have_last_pose_ = false;
+  int64_t last_stamp_ns_ = 0;
+  bool have_last_stamp_ = false;
+  TrackingState last_state_ = TrackingState::kNotInitialized;
+  SessionCounters counters_;
+  long restarts_ = 0, internal_resets_base_ = 0, internal_resets_last_ = 0;
+  Trajectory trajectory_;
+};
+
+}  // namespace iraf_vo

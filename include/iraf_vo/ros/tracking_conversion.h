@@ -1,0 +1,28 @@
+// ROS glue (not part of the ROS-free core): tracking results -> geometry / sensor / iraf_vo messages.
+#pragma once
+
+#include <geometry_msgs/Pose.h>
+#include <geometry_msgs/PoseArray.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <std_msgs/Header.h>
+
+#include <Eigen/Geometry>
+#include <string>
+#include <vector>
+
+#include "iraf_vo/TrackingStatus.h"
+#include "iraf_vo/pipeline/tracking_session.h"
+
+namespace iraf_vo {
+
+geometry_msgs::Pose toPoseMsg(const Eigen::Isometry3d& T);
+/// xyz float32 cloud.
+sensor_msgs::PointCloud2Ptr toCloudMsg(const std::vector<Eigen::Vector3d>& points, const std_msgs::Header& header);
+geometry_msgs::PoseArrayPtr toPoseArrayMsg(const std::vector<Eigen::Isometry3d>& poses, const std_msgs::Header& header);
+/// TrackingStatus.state_name: NOT_INITIALIZED | INITIALIZING | TRACKING | LOST (= toString(state) in capitals).
+std::string stateName(TrackingState s);
+/// The status of one processed frame: its result, the session counters, its keypoints and feature-stage time.
+iraf_vo::TrackingStatusPtr toStatusMsg(const SessionStep& step, const std_msgs::Header& header, int keypoints,
+                                       double ms_features);
+
+}  // namespace iraf_vo

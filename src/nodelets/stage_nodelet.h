@@ -1,0 +1,98 @@
+// The skeleton shared by the stage nodelets (image_proc style): a dynamic_reconfigure server on the private
+// namespace whose Config is copied into the stage's parameter struct through its ParamTable (validated, stored
+// under a mutex, copied per frame), and lazy subscription: inputs are subscribed only while an output has listeners.
+#pragma once
+
+#include <dynamic_reconfigure/server.h>
+#include <image_transport/image_transport.h>
+#include <nodelet/nodelet.h>
+#include <ros/ros.h>
+
+#include <boost/thread/recursive_mutex.hpp>
+#include <memory>
+#include <mutex>
+
+#include "param_bridge.h"
+
+namespace iraf_vo {
+
+template <class Params, class Config>
+class StageNodelet : public nodelet::Nodelet {
+ public:
+  explicit StageNodelet(const ParamTable<Params>& table) : table_(table) {}
+
+ protected:
+  // ---- reconfigurable parameters ----
+  /// Starts the server; its first callback brings the startup values (private parameters / cfg defaults).
+  void startReconfigure() {
+    reconfigure_ = std::make_shared<dynamic_reconfigure::Server<Config>>(reconfigure_mutex_, getPrivateNodeHandle());
+    reconfigure_->setCallback([this](Config& c, uint32_t) { configure(c); });
+  }
+  /// A copy of the current parameters (per frame).
+  Params params() const {
+    std::lock_guard<std::mutex> lock(params_mutex_);
+    return params_;
+  }
+  /// Parameters in use until the first accepted Config (before startReconfigure()).
+  void setParams(const Params& p) {
+    std::lock_guard<std::mutex> lock(params_mutex_);
+    params_ = p;
+  }
+  /// Called after each accepted change with the new parameters and the Config (for nodelet-only fields).
+  virtual void onParams(const Params& p, const Config& c) {}
+  const ParamTable<Params>& table() const { return table_; }
+
+  // ---- lazy subscription ----
+  virtual bool hasListeners() = 0;
+  virtual void subscribeInputs() = 0;
+  virtual void unsubscribeInputs() = 0;
+  /// Held while advertising in onInit, so that connectCb() sees every publisher.
+  std::mutex& connectMutex() { return connect_mutex_; }
+  /// (Un)subscribes the inputs when the number of listeners changed between zero and non-zero.
+  void connectCb() {
+    std::lock_guard<std::mutex> lock(connect_mutex_);
+    if (!hasListeners()) {
+      if (subscribed_) unsubscribeInputs();
+      subscribed_ = false;
+    } else if (!subscribed_) {
+      subscribeInputs();
+      subscribed_ = true;
+    }
+  }
+  template <class Msg>
+  ros::Publisher advertiseLazy(ros::NodeHandle& nh, const std::string& topic, uint32_t queue) {
+    auto cb = [this](const ros::SingleSubscriberPublisher&) { connectCb(); };
+    return nh.advertise<Msg>(topic, queue, cb, cb);
+  }
+  image_transport::Publisher advertiseLazy(image_transport::ImageTransport& it, const std::string& topic,
+                                           uint32_t queue) {
+    auto cb = [this](const image_transport::SingleSubscriberPublisher&) { connectCb(); };
+    return it.advertise(topic, queue, cb, cb);
+  }
+
+ private:
+  void configure(const Config& c) {
+    Params p = params();
+    std::vector<std::string> errors;
+    configToParams(table_, c, &p, &errors);
+    for (const std::string& e : errors) NODELET_ERROR("%s: %s; keeping the previous value", section(), e.c_str());
+    const std::string err = table_.validate(p);
+    if (!err.empty()) {
+      NODELET_ERROR("%s: rejected parameters: %s", section(), err.c_str());
+      return;
+    }
+    setParams(p);
+    onParams(p, c);
+  }
+  const char* section() const { return table_.section().c_str(); }
+
+  const ParamTable<Params>& table_;
+  boost::recursive_mutex reconfigure_mutex_;
+  std::shared_ptr<dynamic_reconfigure::Server<Config>> reconfigure_;
+  mutable std::mutex params_mutex_;
+  Params params_;
+  std::mutex connect_mutex_;
+  bool subscribed_ = false;
+};
+
+}  // namespace iraf_vo

@@ -1,0 +1,160 @@
+#include "iraf_vo/pipeline/tracking_session.h"
+
+#include <cstdio>
+#include <stdexcept>
+
+namespace iraf_vo {
+
+namespace {
+
+std::string seconds(int64_t ns, int decimals) {
+  char buf[48];
+  std::snprintf(buf, sizeof(buf), "%.*f", decimals, static_cast<double>(ns) * 1e-9);
+  return buf;
+}
+
+}  // namespace
+
+TrackingSession::TrackingSession(CameraModelPtr camera, const TrackerParams& params, const SessionOptions& options)
+    : camera_(std::move(camera)), options_(options), params_(params), pending_params_(params) {
+  if (!camera_) throw std::invalid_argument("TrackingSession: null camera");
+}
+
+TrackingSession::~TrackingSession() = default;
+
+void TrackingSession::setParams(const TrackerParams& params) {
+  pending_params_ = params;
+  params_dirty_ = true;
+}
+
+void TrackingSession::requestRestart() { restart_requested_ = true; }
+
+SessionCounters TrackingSession::counters() const {
+  SessionCounters c = counters_;
+  c.resets = internal_resets_base_ + internal_resets_last_ + restarts_;
+  return c;
+}
+
+void TrackingSession::drop(SessionStep* step, SessionMessage::Level level, const std::string& why) {
+  ++counters_.dropped;
+  step->messages.push_back({level, "dropping frame " + why});
+  step->counters = counters();
+}
+
+void TrackingSession::restartAfterTimeJump(int64_t stamp_ns, SessionStep* step) {
+  step->messages.push_back({SessionMessage::Level::kWarn, "time jumped back " + seconds(last_stamp_ns_ - stamp_ns, 3) +
+                                                              " s (" + seconds(last_stamp_ns_, 3) + " -> " +
+                                                              seconds(stamp_ns, 3) +
+                                                              "; bag loop / restart?): new map, the path restarts"});
+  ++counters_.time_resets;
+  tracker_.reset();
+  trajectory_ = Trajectory();
+  have_last_pose_ = false;
+  last_published_ = Eigen::Isometry3d::Identity();
+  step->time_jump = true;
+}
+
+void TrackingSession::createTracker(const Eigen::Isometry3d& anchor, SessionStep* step) {
+  if (tracker_) ++restarts_;
+  tracker_.reset();  // joins the mapping thread of the old one
+  try {
+    tracker_ = std::make_unique<Tracker>(camera_, pending_params_);
+  } catch (const std::exception& e) {
+    step->messages.push_back({SessionMessage::Level::kError, std::string("cannot create the tracker: ") + e.what() +
+                                                                 "; keeping the previous parameters"});
+    pending_params_ = params_;
+    tracker_ = std::make_unique<Tracker>(camera_, params_);
+  }
+  params_ = tracker_->params();
+  params_dirty_ = false;
+  anchor_ = anchor;
+  internal_resets_base_ += internal_resets_last_;
+  internal_resets_last_ = 0;
+}
+
+SessionStep TrackingSession::process(int64_t stamp_ns, const FeatureFrame* frame, const std::string& frame_error) {
+  SessionStep step;
+  // ---- stamp rules ----
+  if (have_last_stamp_ && stamp_ns <= last_stamp_ns_) {
+    const std::string when = "(stamp " + seconds(stamp_ns, 6) + ", last " + seconds(last_stamp_ns_, 6) + "): ";
+    if (stamp_ns == last_stamp_ns_) return drop(&step, SessionMessage::Level::kWarn, when + "duplicated stamp"), step;
+    if ((last_stamp_ns_ - stamp_ns) * 1e-9 < options_.max_out_of_order)
+      return drop(&step, SessionMessage::Level::kWarn, when + "out-of-order stamp"), step;
+    restartAfterTimeJump(stamp_ns, &step);
+  }
+  const std::string at = "(stamp " + seconds(stamp_ns, 6) + "): ";
+  if (!frame) return drop(&step, SessionMessage::Level::kError, at + frame_error), step;
+  if (frame->width != camera_->width() || frame->height != camera_->height())
+    return drop(&step, SessionMessage::Level::kError,
+                at + "image " + std::to_string(frame->width) + "x" + std::to_string(frame->height) +
+                    ", but the camera is " + std::to_string(camera_->width()) + "x" +
+                    std::to_string(camera_->height())),
+           step;
+  last_stamp_ns_ = stamp_ns;
+  have_last_stamp_ = true;
+
+  // ---- (re)create the tracker when needed ----
+  const bool params_changed = params_dirty_;
+  if (!tracker_) {
+    createTracker(Eigen::Isometry3d::Identity(), &step);
+  } else if (restart_requested_ || (params_changed && tracker_->state() != TrackingState::kTracking)) {
+    step.messages.push_back({SessionMessage::Level::kInfo, std::string("restarting the tracker") +
+                                                               (params_changed ? " with the new parameters" : "")});
+    createTracker(have_last_pose_ ? last_published_ : Eigen::Isometry3d::Identity(), &step);
+  }
+  restart_requested_ = false;
+
+  try {
+    step.result = tracker_->track(*frame);
+  } catch (const std::exception& e) {
+    tracker_.reset();
+    return drop(&step, SessionMessage::Level::kError, at + e.what() + "; restarting the tracker"), step;
+  }
+  step.tracked_frame = true;
+  internal_resets_last_ = tracker_->stats().resets;
+  countFrame(step.result);
+  const TrackResult& r = step.result;
+  if (r.state == TrackingState::kTracking) {
+    step.has_pose = true;
+    step.T_world_camera = anchor_ * r.T_w_c;
+    last_published_ = step.T_world_camera;
+    have_last_pose_ = true;
+    trajectory_.push_back(static_cast<double>(stamp_ns) * 1e-9, step.T_world_camera);
+  }
+  if (r.is_keyframe || r.initialized_now) collectMap(&step);
+  std::string err;
+  if (r.is_keyframe && options_.save_every_keyframe && !options_.trajectory_file.empty() && !saveTrajectory(&err))
+    step.messages.push_back({SessionMessage::Level::kError, err});
+  step.counters = counters();
+  return step;
+}
+
+void TrackingSession::countFrame(const TrackResult& r) {
+  ++counters_.frames;
+  if (r.state == TrackingState::kTracking) ++counters_.tracked;
+  if (r.state == TrackingState::kLost) ++counters_.lost_frames;
+  if (r.state == TrackingState::kLost && last_state_ == TrackingState::kTracking) ++counters_.lost_events;
+  if (r.is_keyframe) ++counters_.keyframes;
+  last_state_ = r.state;
+}
+
+void TrackingSession::collectMap(SessionStep* step) {
+  step->map_changed = true;
+  for (const Eigen::Vector3d& p : tracker_->mapPoints()) step->map_points.push_back(anchor_ * p);
+  for (const KeyframePose& k : tracker_->keyframePoses()) step->keyframe_poses.push_back(anchor_ * k.T_w_c);
+  counters_.map_points = static_cast<int>(step->map_points.size());
+  counters_.map_keyframes = static_cast<int>(step->keyframe_poses.size());
+}
+
+bool TrackingSession::saveTrajectory(std::string* error) const {
+  if (options_.trajectory_file.empty()) {
+    *error = "no trajectory file set";
+    return false;
+  }
+  std::string err;
+  if (writeTumTrajectory(options_.trajectory_file, trajectory_, &err)) return true;
+  *error = options_.trajectory_file + ": " + err;
+  return false;
+}
+
+}  // namespace iraf_vo

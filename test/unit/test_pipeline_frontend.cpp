@@ -1,0 +1,177 @@
+// The offline pipeline layer: front-end modes, FrontEnd, OfflinePipeline (threads, order, errors) and the pipeline's
+// parameter file / overrides.
+#include <gtest/gtest.h>
+#include <iraf_vo/pipeline/offline_pipeline.h>
+#include <iraf_vo/pipeline/pipeline_params.h>
+
+#include <fstream>
+
+#include "common/test_data.h"
+#include "common/tmp_dir.h"
+
+using namespace iraf_vo;
+using iraf_vo_test::texturedImage;
+
+TEST(FrontEndMode, EveryModeParsesBackAndSetsItsSwitches) {
+  const FrontEndMode all[] = {FrontEndMode::kIraf,     FrontEndMode::kBaseline, FrontEndMode::kEnhance,
+                              FrontEndMode::kAdaptive, FrontEndMode::kCulling,  FrontEndMode::kHe,
+                              FrontEndMode::kClahe};
+  for (FrontEndMode m : all) {
+    FrontEndMode back;
+    ASSERT_TRUE(parseFrontEndMode(toString(m), &back)) << toString(m);
+    EXPECT_EQ(back, m);
+    EXPECT_NE(std::string(frontEndModeList()).find(toString(m)), std::string::npos) << toString(m);
+  }
+  FrontEndMode m;
+  EXPECT_FALSE(parseFrontEndMode("IRAF", &m));
+  EnhanceParams ep;
+  FeatureParams fp;
+  fp.n_features = 777;
+  applyFrontEndMode(FrontEndMode::kBaseline, &ep, &fp);
+  EXPECT_EQ(ep.method, EnhanceMethod::kNone);
+  EXPECT_FALSE(fp.adaptive_threshold);
+  EXPECT_FALSE(fp.culling);
+  EXPECT_EQ(fp.n_features, 777);  // everything else is kept
+  applyFrontEndMode(FrontEndMode::kCulling, &ep, &fp);
+  EXPECT_EQ(ep.method, EnhanceMethod::kNone);
+  EXPECT_FALSE(fp.adaptive_threshold);
+  EXPECT_TRUE(fp.culling);
+  applyFrontEndMode(FrontEndMode::kClahe, &ep, &fp);
+  EXPECT_EQ(ep.method, EnhanceMethod::kClahe);
+  applyFrontEndMode(FrontEndMode::kIraf, &ep, &fp);
+  EXPECT_EQ(ep.method, EnhanceMethod::kIraf);
+  EXPECT_TRUE(fp.adaptive_threshold && fp.culling);
+}
+
+TEST(FrontEnd, ImageToFeaturesEqualsTheStagesCalledByHand) {
+  const cv::Mat img = texturedImage(320, 240, 3) * 0.3;  // dim: the enhancement changes the image
+  EnhanceParams ep;
+  FeatureParams fp;
+  fp.scale_factor = 1.3;
+  FrontEnd fe(ep, fp);
+  FrontEndTiming t;
+  const FeatureFrame f = fe.process(img, 12.5, &t);
+  Enhancer e;
+  FeatureExtractor x;
+  const EnhanceResult er = e.enhance(img, ep);
+  const FeatureFrame g = x.extract(er.image, 12.5, fp);
+  ASSERT_GT(f.keypoints.size(), 10u);
+  EXPECT_EQ(f.keypoints.size(), g.keypoints.size());
+  EXPECT_EQ(cv::norm(f.descriptors, g.descriptors, cv::NORM_HAMMING), 0.0);
+  EXPECT_DOUBLE_EQ(f.stamp, 12.5);
+  EXPECT_DOUBLE_EQ(f.scale_factor, 1.3);
+  EXPECT_EQ(f.stats.brightness, static_cast<int>(er.brightness));
+  EXPECT_GT(t.ms_enhance + t.ms_features, 0.0);
+  EXPECT_THROW(fe.process(cv::Mat(), 0.0), std::invalid_argument);
+}
+
+namespace {
+
+/// n textured frames; frame `bad` is unreadable, frame `wrong_size` has another size.
+class FakeSource : public FrameSource {
+ public:
+  FakeSource(int n, int bad = -1, int wrong_size = -1) : n_(n), bad_(bad), wrong_size_(wrong_size) {}
+  size_t size() const override { return n_; }
+  bool read(long index, SourceImage* out) override {
+    if (index >= n_) return false;
+    reads.push_back(index);
+    out->stamp = 0.1 * index;
+    if (index == bad_)
+      out->error = "broken file";
+    else
+      out->gray = texturedImage(index == wrong_size_ ? 200 : 160, 120, static_cast<unsigned>(index + 1));
+    return true;
+  }
+  std::string describe(long index) const override { return "frame" + std::to_string(index) + ".png"; }
+  std::vector<long> reads;
+
+ private:
+  int n_, bad_, wrong_size_;
+};
+
+std::vector<FrontEndItem> runAll(FakeSource* src, long first, long last) {
+  PipelineOptions o;
+  o.first = first;
+  o.last = last;
+  o.width = 160;
+  o.height = 120;
+  o.camera_name = "cam.yaml";
+  o.queue_capacity = 2;
+  OfflinePipeline p(src, EnhanceParams(), FeatureParams(), o);
+  std::vector<FrontEndItem> out;
+  for (FrontEndItem it; p.next(&it);) out.push_back(it);
+  return out;
+}
+
+}  // namespace
+
+TEST(OfflinePipeline, FramesArriveInOrderWithinTheRangeAndErrorsAreFlagged) {
+  FakeSource src(12, /*bad=*/5);
+  const std::vector<FrontEndItem> items = runAll(&src, 2, 9);
+  ASSERT_EQ(items.size(), 7u);
+  for (size_t k = 0; k < items.size(); ++k) {
+    EXPECT_EQ(items[k].index, static_cast<long>(2 + k));
+    EXPECT_DOUBLE_EQ(items[k].frame.stamp, 0.1 * items[k].index);
+    EXPECT_FALSE(items[k].fatal);
+    EXPECT_EQ(items[k].error, items[k].index == 5) << items[k].index;
+    if (!items[k].error) {
+      EXPECT_GT(items[k].frame.keypoints.size(), 0u) << items[k].index;
+    }
+  }
+  EXPECT_EQ(items[3].message, "broken file");
+  EXPECT_EQ(runAll(&src, 10, 40).size(), 0u + 2u);  // the source ends before `last`
+}
+
+TEST(OfflinePipeline, AnImageOfAnotherSizeIsFatalAndNamesBothFiles) {
+  FakeSource src(6, -1, /*wrong_size=*/3);
+  const std::vector<FrontEndItem> items = runAll(&src, 0, 6);
+  ASSERT_GE(items.size(), 4u);
+  EXPECT_TRUE(items[3].fatal);
+  EXPECT_NE(items[3].message.find("frame3.png"), std::string::npos) << items[3].message;
+  EXPECT_NE(items[3].message.find("cam.yaml"), std::string::npos) << items[3].message;
+  EXPECT_NE(items[3].message.find("200x120"), std::string::npos) << items[3].message;
+}
+
+TEST(OfflinePipeline, StoppingEarlyJoinsTheThreads) {
+  FakeSource src(1000);
+  PipelineOptions o;
+  o.last = 1000;
+  o.width = 160;
+  o.height = 120;
+  {
+    OfflinePipeline p(&src, EnhanceParams(), FeatureParams(), o);
+    FrontEndItem it;
+    ASSERT_TRUE(p.next(&it));
+  }  // destructor with ~1000 frames left
+  EXPECT_LT(src.reads.size(), 20u);
+}
+
+TEST(PipelineParams, ConfigFileThenOverridesNameTheirErrors) {
+  const std::string path = tmpRoot() + "pipeline.yaml";
+  std::ofstream(path) << "enhance: {mu_expected: 80}\nfeatures: {n_features: 600}\ntracker: {ba_window_size: 8}\n"
+                         "other_tool: {anything: 1}\n";
+  PipelineParams p;
+  std::string err;
+  ASSERT_TRUE(loadPipelineConfig(path, &p, &err)) << err;
+  EXPECT_DOUBLE_EQ(p.enhance.mu_expected, 80.0);
+  EXPECT_EQ(p.features.n_features, 600);
+  EXPECT_EQ(p.tracker.ba_window_size, 8);
+  ASSERT_TRUE(applyPipelineSetting("features.culling=false", &p, &err)) << err;
+  EXPECT_FALSE(p.features.culling);
+  ASSERT_TRUE(applyPipelineSetting("enhance.method=he", &p, &err)) << err;
+  EXPECT_EQ(p.enhance.method, EnhanceMethod::kHe);
+  EXPECT_FALSE(applyPipelineSetting("tracker.no_such=1", &p, &err));
+  EXPECT_NE(err.find("no_such"), std::string::npos) << err;
+  EXPECT_FALSE(applyPipelineSetting("camera.fx=1", &p, &err));
+  EXPECT_NE(err.find("camera"), std::string::npos) << err;
+  EXPECT_FALSE(applyPipelineSetting("ba_window_size=3", &p, &err));
+  EXPECT_EQ(validate(p), "");
+  p.tracker.ba_window_size = 1;
+  EXPECT_NE(validate(p).find("ba_window_size"), std::string::npos);
+
+  std::ofstream(path) << "tracker: {scale_factor: 1.2}\n";  // moved to the features (FeatureFrame)
+  EXPECT_FALSE(loadPipelineConfig(path, &p, &err));
+  EXPECT_NE(err.find(path), std::string::npos) << err;
+  EXPECT_NE(err.find("scale_factor"), std::string::npos) << err;
+  EXPECT_FALSE(loadPipelineConfig(tmpRoot() + "missing.yaml", &p, &err));
+}

@@ -1,0 +1,154 @@
+// TrackingSession (pipeline/tracking_session.h): the run rules of the tracker nodelet on synthetic feature frames.
+#include <gtest/gtest.h>
+#include <iraf_vo/pipeline/tracking_session.h>
+
+#include <fstream>
+
+#include "common/tmp_dir.h"
+#include "unit/tracking_test_utils.h"
+
+using namespace iraf_vo;
+using namespace iraf_vo::test;
+
+namespace {
+
+constexpr int64_t kSecond = 1000000000;
+
+struct SessionFixture : testing::Test {
+  CameraModelPtr cam = std::make_shared<TestPinhole>(640, 480, 500, 320, 240);
+  SyntheticWorld world;
+  SessionFixture() { world.addBox(1300, {-4, -3, 4}, {6, 3, 10}); }
+
+  static Eigen::Isometry3d pose(int i) { return makePose({0, 1.0 * std::sin(0.05 * i), 0}, {0.03 * i, 0, 0.01 * i}); }
+  FeatureFrame frame(int i) { return world.render(*cam, pose(i), 0.05 * i); }
+  static int64_t stampOf(int i) { return 100 * kSecond + i * (kSecond / 20); }
+
+  /// Feeds frames [from, to); returns the index of the first tracked one (-1 if none).
+  int feed(TrackingSession* s, int from, int to, SessionStep* last = nullptr) {
+    int first_tracked = -1;
+    for (int i = from; i < to; ++i) {
+      const FeatureFrame f = frame(i);
+      const SessionStep st = s->process(stampOf(i), &f);
+      EXPECT_TRUE(st.tracked_frame) << i;
+      if (st.has_pose && first_tracked < 0) first_tracked = i;
+      if (last) *last = st;
+    }
+    return first_tracked;
+  }
+};
+
+bool mentions(const SessionStep& s, const std::string& text) {
+  for (const SessionMessage& m : s.messages)
+    if (m.text.find(text) != std::string::npos) return true;
+  return false;
+}
+
+}  // namespace
+
+TEST_F(SessionFixture, DuplicatedAndLateStampsAreDroppedAJumpBackRestartsTheMap) {
+  TrackerParams p;
+  p.mapping_thread = false;
+  TrackingSession s(cam, p, SessionOptions());
+  ASSERT_GE(feed(&s, 0, 30), 0) << "the synthetic sequence never tracked";
+  const size_t poses = s.trajectory().size();
+  EXPECT_GT(poses, 0u);
+
+  const FeatureFrame f = frame(30);
+  SessionStep st = s.process(stampOf(29), &f);  // same stamp as the last frame
+  EXPECT_FALSE(st.tracked_frame);
+  EXPECT_TRUE(mentions(st, "duplicated stamp"));
+  EXPECT_EQ(st.counters.dropped, 1);
+  st = s.process(stampOf(29) - kSecond / 2, &f);  // 0.5 s late: within max_out_of_order
+  EXPECT_FALSE(st.tracked_frame);
+  EXPECT_TRUE(mentions(st, "out-of-order"));
+  EXPECT_EQ(st.counters.dropped, 2);
+  EXPECT_EQ(s.trajectory().size(), poses);  // nothing recorded for dropped frames
+
+  st = s.process(stampOf(29) - 5 * kSecond, &f);  // the bag looped
+  EXPECT_TRUE(st.tracked_frame);
+  EXPECT_TRUE(st.time_jump);
+  EXPECT_EQ(st.counters.time_resets, 1);
+  EXPECT_FALSE(st.has_pose);             // a new map starts with initialization
+  EXPECT_EQ(s.trajectory().size(), 0u);  // the recorded trajectory restarts
+  EXPECT_EQ(st.counters.frames, 31);     // counters run over every tracker of the session
+}
+
+TEST_F(SessionFixture, UnusableFramesAreDroppedWithTheReason) {
+  TrackingSession s(cam, TrackerParams(), SessionOptions());
+  SessionStep st = s.process(kSecond, nullptr, "descriptors has 3 bytes");
+  EXPECT_FALSE(st.tracked_frame);
+  EXPECT_TRUE(mentions(st, "descriptors has 3 bytes"));
+  FeatureFrame small = frame(0);
+  small.width = 320;
+  st = s.process(2 * kSecond, &small);
+  EXPECT_FALSE(st.tracked_frame);
+  EXPECT_TRUE(mentions(st, "320x480"));
+  EXPECT_EQ(st.counters.dropped, 2);
+  EXPECT_EQ(st.counters.frames, 0);
+  EXPECT_THROW(TrackingSession(nullptr, TrackerParams(), SessionOptions()), std::invalid_argument);
+}
+
+TEST_F(SessionFixture, ParametersWaitWhileTrackingAndApplyAtTheRestartWhichKeepsThePathContinuous) {
+  TrackerParams p;
+  p.mapping_thread = false;
+  TrackingSession s(cam, p, SessionOptions());
+  TrackerParams q = p;
+  q.ba_window_size = 7;
+  s.setParams(q);  // nothing tracked yet: applied with the first frame
+  SessionStep st;
+  ASSERT_GE(feed(&s, 0, 30, &st), 0);
+  EXPECT_EQ(s.params().ba_window_size, 7);
+  ASSERT_TRUE(st.has_pose);
+  const long resets = st.counters.resets;
+
+  q.ba_window_size = 9;
+  s.setParams(q);
+  feed(&s, 30, 33, &st);
+  ASSERT_TRUE(st.has_pose) << "tracking was lost: the test cannot tell a pending change";
+  EXPECT_EQ(s.params().ba_window_size, 7) << "applied while tracking";
+  EXPECT_EQ(st.counters.resets, resets);
+
+  const Eigen::Isometry3d before = st.T_world_camera;
+  s.requestRestart();
+  const FeatureFrame f = frame(33);
+  st = s.process(stampOf(33), &f);
+  EXPECT_TRUE(mentions(st, "restarting the tracker with the new parameters"));
+  EXPECT_EQ(s.params().ba_window_size, 9);
+  EXPECT_EQ(st.counters.resets, resets + 1);
+  const int again = feed(&s, 34, 60, &st);
+  ASSERT_GE(again, 0) << "no tracking after the restart";
+  // The new map is anchored at the last published pose: the path continues near it (new map scale: depth 1).
+  const Eigen::Isometry3d T_first = s.trajectory().poses[s.trajectory().size() - (60 - again)];
+  EXPECT_LT((T_first.translation() - before.translation()).norm(), 0.5);
+}
+
+TEST_F(SessionFixture, TrajectoryIsRecordedAndSavedAtKeyframes) {
+  TrackerParams p;
+  p.mapping_thread = false;
+  SessionOptions o;
+  o.trajectory_file = tmpRoot() + "session_traj.txt";
+  TrackingSession s(cam, p, o);
+  SessionStep st;
+  long tracked = 0;
+  long poses_at_keyframe = -1;
+  for (int i = 0; i < 40; ++i) {
+    const FeatureFrame f = frame(i);
+    st = s.process(stampOf(i), &f);
+    tracked += st.has_pose;
+    if (st.result.is_keyframe) poses_at_keyframe = static_cast<long>(s.trajectory().size());
+    if (st.map_changed) {
+      EXPECT_FALSE(st.map_points.empty()) << i;
+    }
+  }
+  EXPECT_EQ(static_cast<long>(s.trajectory().size()), tracked);
+  EXPECT_EQ(st.counters.tracked, tracked);
+  ASSERT_GT(poses_at_keyframe, 0) << "no keyframe in 40 frames";
+  std::ifstream in(o.trajectory_file);
+  long lines = 0;
+  for (std::string l; std::getline(in, l);) lines += !l.empty() && l[0] != '#';
+  EXPECT_EQ(lines, poses_at_keyframe);
+  std::string err;
+  EXPECT_TRUE(s.saveTrajectory(&err)) << err;
+  TrackingSession no_file(cam, p, SessionOptions());
+  EXPECT_FALSE(no_file.saveTrajectory(&err));
+}
