@@ -28,6 +28,15 @@ int fixMonocularGauge(std::vector<BAKeyframe>* keyframes, int window_size, doubl
   return num_fixed;
 }
 
+double windowExtent(const LocalBAProblem& prob) {
+  double extent = 0.0;
+  if (prob.window_size < 1) return 0.0;
+  const Eigen::Vector3d newest = prob.keyframes[0].T_c_w.inverse().translation();
+  for (int k = 1; k < prob.window_size; ++k)
+    extent = std::max(extent, (prob.keyframes[k].T_c_w.inverse().translation() - newest).norm());
+  return extent;
+}
+
 // Map's side of the local BA: building the problem and merging the result, each under the map lock.
 LocalBAProblem Map::localBAProblem(int window_size, double min_fixed_span) const {
   LocalBAProblem prob;

@@ -146,6 +146,7 @@ void LocalMapper::localBundleAdjustment() {
   options.huber_delta = p_.ba_huber_delta;
   options.abort = p_.mapping_thread ? &abort_ba_ : nullptr;
   BASummary summary;
+  const double before = windowExtent(prob);
   const bool ok = bundleAdjust(cam_, &prob.keyframes, &prob.points, prob.observations, options, &summary);
   {
     std::lock_guard<std::mutex> lk(stats_mutex_);
@@ -153,7 +154,24 @@ void LocalMapper::localBundleAdjustment() {
     stats_.ba_ms_total += summary.ms;
     stats_.ba_final_rmse_px = summary.final_rmse_px;
   }
-  if (ok) map_->applyLocalBA(prob, summary);
+  if (!ok) return;
+  map_->applyLocalBA(prob, summary);
+  recordScaleChange(before, prob);
+}
+
+void LocalMapper::recordScaleChange(double extent_before, const LocalBAProblem& after) {
+  const double extent_after = windowExtent(after);
+  if (!(extent_before > 1e-12) || !(extent_after > 0)) return;
+  const double change = extent_after / extent_before;
+  std::lock_guard<std::mutex> lk(scale_mutex_);
+  if (std::max(change, 1.0 / change) > std::max(scale_change_, 1.0 / scale_change_)) scale_change_ = change;
+}
+
+double LocalMapper::takeScaleChange() {
+  std::lock_guard<std::mutex> lk(scale_mutex_);
+  const double c = scale_change_;
+  scale_change_ = 1.0;
+  return c;
 }
 
 }  // namespace iraf_vo

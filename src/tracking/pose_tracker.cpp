@@ -49,9 +49,11 @@ PoseTrackingResult PoseTracker::trackLocalMap(Frame& cur, const Eigen::Isometry3
   matcher_.searchByProjection(cur, T, local, p_.search_radius_refine_px, 1, &matches, &visible);
   res.ms_match += msSince(t0);
   t0 = Clock::now();
+  res.refine_matches = matches.size();
   res.inliers = refinePose(cur, local, &matches, &T);
   res.ms_pose += msSince(t0);
   if (res.inliers < p_.min_tracking_inliers) return res;
+  describeInliers(cur, local, matches, T, &res);
 
   res.tracked = true;
   cur.T_c_w = T;
@@ -69,6 +71,27 @@ PoseTrackingResult PoseTracker::trackLocalMap(Frame& cur, const Eigen::Isometry3
     res.has_median_depth = true;
   }
   return res;
+}
+
+void PoseTracker::describeInliers(const Frame& f, const std::vector<LocalPoint>& local, const MatchSet& matches,
+                                  const Eigen::Isometry3d& T, PoseTrackingResult* res) const {
+  std::vector<Eigen::Vector3d> P;
+  std::vector<Eigen::Vector2d> uv;
+  std::vector<double> sigma, chi2;
+  for (size_t i = 0; i < f.size(); ++i) {
+    const int li = matches.pointOf(static_cast<int>(i));
+    if (li < 0) continue;
+    P.push_back(local[li].p_w);
+    uv.emplace_back(f.keypoints[i].pt.x, f.keypoints[i].pt.y);
+    sigma.push_back(f.sigma(f.keypoints[i].octave));
+    const double e2 = reprojectionError2(cam_, T, P.back(), uv.back());
+    chi2.push_back(e2 < 0 ? 1e9 : e2 / (sigma.back() * sigma.back()));
+  }
+  if (!chi2.empty()) {
+    std::nth_element(chi2.begin(), chi2.begin() + chi2.size() / 2, chi2.end());
+    res->median_chi2 = chi2[chi2.size() / 2];
+  }
+  res->information = poseInformation(cam_, P, uv, sigma, T);
 }
 
 int PoseTracker::refinePose(const Frame& f, const std::vector<LocalPoint>& local, MatchSet* matches,

@@ -3,16 +3,19 @@
 // (see tracker.h for the whole algorithm).
 #include <iraf_vo/tracking/tracker.h>
 
+#include <iraf_vo/tracking/health_monitor.h>
 #include <iraf_vo/tracking/keyframe_policy.h>
 #include <iraf_vo/tracking/local_mapper.h>
 #include <iraf_vo/tracking/map.h>
 #include <iraf_vo/tracking/map_initializer.h>
 #include <iraf_vo/tracking/pose_tracker.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <mutex>
 #include <stdexcept>
+#include <unordered_map>
 
 namespace iraf_vo {
 
@@ -38,6 +41,7 @@ struct Tracker::Impl {
   LocalMapper mapper;
   MapInitializer initializer;
   PoseTracker pose_tracker;
+  TrackingHealthMonitor health;
 
   mutable std::mutex stats_mutex;
   TrackerStats stats;  // guarded by stats_mutex (the mapper keeps its BA stats)
@@ -59,7 +63,7 @@ struct Tracker::Impl {
   double last_median_depth = 1.0;
 
   Impl(CameraModelPtr c, const TrackerParams& params)
-      : cam(std::move(c)), p(params), mapper(*cam, p, &map), initializer(*cam, p), pose_tracker(*cam, p) {}
+      : cam(std::move(c)), p(params), mapper(*cam, p, &map), initializer(*cam, p), pose_tracker(*cam, p), health(p) {}
 
   template <class F>
   void updateStats(F&& f) {
@@ -70,6 +74,8 @@ struct Tracker::Impl {
   TrackResult track(const FeatureFrame& in);
   bool initializeMap(Frame& cur, TrackResult* res);
   bool trackWithMotionModel(Frame& cur, TrackResult* res);
+  Eigen::Matrix<double, 6, 6> initialPoseInformation(const Frame& cur) const;
+  std::string checkHealth(const Frame& cur, const PoseTrackingResult& r);
   void insertKeyframeIfNeeded(const Frame& cur, TrackResult* res);
   void handleLostFrame(const Frame& cur);
   void resetMap();
@@ -108,6 +114,7 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in) {
     state = TrackingState::kTracking;
     reinitializing = false;
     res.initialized_now = true;
+    health.restart();
     updateStats([](TrackerStats& s) {
       s.initializations++;
       s.keyframes += 2;
@@ -123,6 +130,7 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in) {
   // kTracking or kLost (relocalization attempts before the reset)
   if (state == TrackingState::kLost) have_velocity = false;
   if (!trackWithMotionModel(cur, &res)) {
+    health.restart();
     handleLostFrame(cur);
     return notTracked(TrackingState::kLost, t_start, res);
   }
@@ -149,6 +157,8 @@ bool Tracker::Impl::initializeMap(Frame& cur, TrackResult* res) {
   last_kf_id = kf1->id;
   res->inliers = points;
   res->is_keyframe = true;
+  res->inlier_ratio = 1.0;
+  res->covariance = worldPoseCovariance(initialPoseInformation(cur), cur.T_c_w);
   // Per-frame velocity from the average motion over the initialization baseline.
   const int nframes = std::max<long>(1, kf1->frame_index - kf0->frame_index);
   const Eigen::Isometry3d T_rel = kf1->T_c_w * kf0->T_c_w.inverse();
@@ -158,6 +168,22 @@ bool Tracker::Impl::initializeMap(Frame& cur, TrackResult* res) {
   velocity.translation() = T_rel.translation() / nframes;
   have_velocity = true;
   return true;
+}
+
+Eigen::Matrix<double, 6, 6> Tracker::Impl::initialPoseInformation(const Frame& cur) const {
+  std::unordered_map<long, Eigen::Vector3d> position;
+  for (const LocalPoint& lp : map.localPoints()) position[lp.id] = lp.p_w;
+  std::vector<Eigen::Vector3d> P;
+  std::vector<Eigen::Vector2d> uv;
+  std::vector<double> sigma;
+  for (size_t i = 0; i < cur.size(); ++i) {
+    auto it = position.find(cur.point_id[i]);
+    if (it == position.end()) continue;
+    P.push_back(it->second);
+    uv.emplace_back(cur.keypoints[i].pt.x, cur.keypoints[i].pt.y);
+    sigma.push_back(cur.sigma(cur.keypoints[i].octave));
+  }
+  return poseInformation(*cam, P, uv, sigma, cur.T_c_w);
 }
 
 bool Tracker::Impl::trackWithMotionModel(Frame& cur, TrackResult* res) {
@@ -172,6 +198,14 @@ bool Tracker::Impl::trackWithMotionModel(Frame& cur, TrackResult* res) {
   res->timing.ms_match += r.ms_match;
   res->timing.ms_pose += r.ms_pose;
   if (!r.tracked) return false;
+  res->inlier_ratio = r.refine_matches > 0 ? static_cast<double>(r.inliers) / r.refine_matches : 0.0;
+  res->median_chi2 = r.median_chi2;
+  res->covariance = worldPoseCovariance(r.information, cur.T_c_w);
+  res->rejected = checkHealth(cur, r);
+  if (!res->rejected.empty()) {
+    updateStats([](TrackerStats& s) { s.rejected++; });
+    return false;
+  }
   if (r.has_median_depth) last_median_depth = r.median_depth;
   if (last_kf_id >= 0) {  // velocity from the (possibly BA-updated) last pose
     velocity = cur.T_c_w * T_last.inverse();
@@ -179,6 +213,21 @@ bool Tracker::Impl::trackWithMotionModel(Frame& cur, TrackResult* res) {
     have_velocity = true;
   }
   return true;
+}
+
+std::string Tracker::Impl::checkHealth(const Frame& cur, const PoseTrackingResult& r) {
+  HealthInput in;
+  in.inliers = r.inliers;
+  in.refine_matches = r.refine_matches;
+  in.median_chi2 = r.median_chi2;
+  in.T_w_c = cur.T_c_w.inverse();
+  in.median_depth = r.has_median_depth ? r.median_depth : last_median_depth;
+  in.ba_scale_change = mapper.takeScaleChange();
+  in.duplicate_of_last = cur.size() == last.size() && cur.size() > 0 &&
+                         std::equal(cur.keypoints.begin(), cur.keypoints.end(), last.keypoints.begin(),
+                                    [](const cv::KeyPoint& a, const cv::KeyPoint& b) { return a.pt == b.pt; }) &&
+                         cv::norm(cur.descriptors, last.descriptors, cv::NORM_HAMMING) == 0;
+  return health.check(in);
 }
 
 void Tracker::Impl::insertKeyframeIfNeeded(const Frame& cur, TrackResult* res) {
@@ -235,6 +284,7 @@ void Tracker::Impl::onTracked(const Frame& cur, TrackResult* res, bool is_keyfra
   for (size_t i = 0; i < cur.point_id.size(); ++i) res->keypoint_inlier[i] = cur.point_id[i] >= 0;
   last_good_T_w_c = res->T_w_c;
   have_last_good = true;
+  health.accept(res->T_w_c);
   last = cur;
   Eigen::Isometry3d T_kf;
   last_ref_kf = map.keyframePose(last_kf_id, &T_kf) ? last_kf_id : -1;

@@ -80,6 +80,13 @@ const std::map<std::string, Setter>& setters() {
     IRAF_INT(ba_every_keyframes)
     IRAF_INT(max_pending_keyframes)
     IRAF_INT(lost_frames_before_reset)
+    IRAF_BOOL(health_monitor)
+    IRAF_DBL(health_min_inlier_ratio)
+    IRAF_DBL(health_max_median_chi2)
+    IRAF_DBL(health_max_accel_ratio)
+    IRAF_DBL(health_min_accel_depth)
+    IRAF_DBL(health_max_rot_accel_deg)
+    IRAF_DBL(health_max_ba_scale_change)
 #undef IRAF_INT
 #undef IRAF_DBL
 #undef IRAF_BOOL

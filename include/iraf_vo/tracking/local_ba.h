@@ -30,4 +30,7 @@ struct LocalBAProblem {
 /// and the fixed centres span >= min_fixed_span * the window's extent. Returns the number of fixed keyframes.
 int fixMonocularGauge(std::vector<BAKeyframe>* keyframes, int window_size, double min_fixed_span);
 
+/// Largest distance of a window keyframe's centre from the newest one (the window's extent; 0 if empty).
+double windowExtent(const LocalBAProblem& problem);
+
 }  // namespace iraf_vo

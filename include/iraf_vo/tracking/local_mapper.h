@@ -51,11 +51,15 @@ class LocalMapper {
   /// Triangulates the keyframe's new points (once per keyframe; the tracker calls it when the map starves).
   void createNewMapPoints(long kf_id);
   LocalMapperStats stats() const;
+  /// The largest change of the window's extent (after / before, or its inverse if that is larger, as a factor
+  /// >= 1 with the direction kept: < 1 shrank) by a local BA since the last call; 1 when none ran.
+  double takeScaleChange();
 
  private:
   void run();
   void processKeyframe(long kf_id, bool run_ba);
   void localBundleAdjustment();
+  void recordScaleChange(double extent_before, const LocalBAProblem& after);
 
   const CameraModel& cam_;
   const TrackerParams& p_;
@@ -68,6 +72,8 @@ class LocalMapper {
   bool busy_ = false, stop_ = false;
   int keyframes_since_ba_ = 0;  // mapping thread only
   std::atomic<bool> abort_ba_{false};
+  std::mutex scale_mutex_;
+  double scale_change_ = 1.0;  // guarded by scale_mutex_
   std::thread thread_;
 
   mutable std::mutex stats_mutex_;

@@ -20,6 +20,9 @@ struct PoseTrackingResult {
   int matches = 0;          // projection-search matches before the pose refinement
   int inliers = 0;
   bool used_pnp = false;    // relocalized by brute force + PnP
+  int refine_matches = 0;   // matches entering the final pose refinement
+  double median_chi2 = 0.0; // median sigma-normalized squared reprojection error of the inliers
+  Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();  // of T_c_w (poseInformation)
   bool has_median_depth = false;
   double median_depth = 0;  // of the inlier points in the frame
   double ms_match = 0.0, ms_pose = 0.0;
@@ -36,6 +39,9 @@ class PoseTracker {
  private:
   /// Pose-only refinement from the matches; outlier matches are removed. Returns the inliers.
   int refinePose(const Frame& f, const std::vector<LocalPoint>& local, MatchSet* matches, Eigen::Isometry3d* T) const;
+  /// Median chi2 and information matrix of the final inliers.
+  void describeInliers(const Frame& f, const std::vector<LocalPoint>& local, const MatchSet& matches,
+                       const Eigen::Isometry3d& T, PoseTrackingResult* res) const;
   /// Brute force against all local points + PnP RANSAC; replaces *matches by the PnP inliers. Returns inliers.
   int relocalize(const Frame& f, const std::vector<LocalPoint>& local, MatchSet* matches, Eigen::Isometry3d* T) const;
 

@@ -8,10 +8,11 @@
 //   needNewKeyframe (keyframe_policy.h)  the keyframe decision
 //   LocalMapper (local_mapper.h)  its thread, queue, back-pressure, triangulation, point culling, local BA
 //   LocalBAProblem (local_ba.h)   the sliding window and its monocular gauge
+//   TrackingHealthMonitor (health_monitor.h)  rejects untrustworthy poses (reported lost, never tracking)
 //
 // Per frame: undistort -> not initialized: two-view initialization against a reference frame; map scale =
 // median depth 1 (after a loss: the last known median depth) -> tracking: PoseTracker::trackLocalMap; tracked
-// iff inliers >= min_tracking_inliers -> keyframe decision -> LocalMapper (own thread unless mapping_thread =
+// iff inliers >= min_tracking_inliers and the health monitor trusts the pose -> keyframe decision -> LocalMapper (own thread unless mapping_thread =
 // false; tracking never waits for it except on reset and under back-pressure; when the map is starving
 // (keyframe with inliers < starving_inliers) the tracking thread triangulates that keyframe itself).
 //
@@ -60,6 +61,12 @@ struct TrackResult {
   bool initialized_now = false;  // this frame completed a (re-)initialization
   bool used_pnp = false;
   std::vector<char> keypoint_inlier;  // per input keypoint: 1 = matched to a map point and a pose inlier
+  /// Covariance of T_w_c in the world frame, [x y z rx ry rz] (map units, radians), from the pose refinement's
+  /// information matrix with sigma = scale_factor^octave px per keypoint (valid when state == kTracking).
+  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Identity();
+  double inlier_ratio = 0.0;  // inliers / matches of the final pose refinement
+  double median_chi2 = 0.0;   // of the inliers
+  std::string rejected;       // why the health monitor rejected a computed pose ("" if it did not)
   TrackTiming timing;
 };
 
@@ -71,6 +78,7 @@ struct TrackerStats {
   long resets = 0;
   long initializations = 0;
   long keyframes = 0;
+  long rejected = 0;               // tracked poses rejected by the health monitor (counted as lost frames)
   long ba_runs = 0;
   double ba_ms_total = 0.0;
   double ba_final_rmse_px = 0.0;   // last BA
