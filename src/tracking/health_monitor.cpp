@@ -68,10 +68,19 @@ std::string TrackingHealthMonitor::check(const HealthInput& in) const {
   if (poses_.size() < 2) return "";
   const Eigen::Isometry3d& prev = poses_[poses_.size() - 2];
   const Eigen::Isometry3d& last = poses_.back();
-  const double accel = (step(last, in.T_w_c) - step(prev, last)).norm();
-  const double accel_limit = p_.health_max_accel_ratio * medianSpeed() + p_.health_min_accel_depth * in.median_depth;
+  const Eigen::Vector3d v_last = step(prev, last), v_now = step(last, in.T_w_c);
+  const double floor = p_.health_min_accel_depth * in.median_depth;
+  const double accel = (v_now - v_last).norm();
+  const double accel_limit = p_.health_max_accel_ratio * medianSpeed() + floor;
   if (accel > accel_limit) {
     why << "motion jump: velocity changed by " << accel << " (limit " << accel_limit << ")";
+    return why.str();
+  }
+  // A camera cannot reverse its direction within one frame at speed (swapped / out-of-order frames).
+  const double reverse_floor = 0.25 * floor;
+  if (v_last.norm() > reverse_floor && v_now.norm() > reverse_floor &&
+      v_now.dot(v_last) < -0.5 * v_now.norm() * v_last.norm()) {
+    why << "motion jump: direction reversed within one frame at speed " << v_now.norm();
     return why.str();
   }
   // Rotation rate change: the rotation of this step against the rotation of the last step.

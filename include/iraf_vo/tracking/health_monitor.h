@@ -8,7 +8,8 @@
 //   motion model    the change of the per-frame camera velocity (centre displacement) exceeds
 //                   health_max_accel_ratio * (median speed of the last frames) + health_min_accel_depth *
 //                   (median scene depth), or the change of the per-frame rotation exceeds
-//                   health_max_rot_accel_deg + health_max_accel_ratio * (median rotation rate)
+//                   health_max_rot_accel_deg + health_max_accel_ratio * (median rotation rate), or the
+//                   camera reverses its direction within one frame while faster than a quarter of that floor
 //                   (swapped frames, a frame from another place, a jump of the camera)
 //   map scale       the last local BA changed the window's extent by more than a factor health_max_ba_scale_change
 //                   (tracking and local BA disagree on the scale)
