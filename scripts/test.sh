@@ -8,6 +8,9 @@
 #                            report fails the run. Default: 1 when CI=true, else 0 (IRAF_VO_SANITIZE=0 opts out).
 #        IRAF_VO_SANITIZE_TOOLS=1  also builds the CLI tools with the sanitizers (test_bad_cli then runs them;
 #                            otherwise it skips them in build-asan/).
+#        IRAF_VO_TSAN=1      afterwards also builds the core + the tracking unit tests with ThreadSanitizer in
+#                            build-tsan/ (IRAF_VO_TSAN_BUILD_DIR) and runs them (the local-mapping thread); any
+#                            data race report fails the run. Default: 1 when CI=true, else 0.
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -64,5 +67,33 @@ if [ "$SANITIZE" = 1 ]; then
     catkin_test_results "$ASAN_DIR/test_results" || status=1
   fi
   echo "test.sh: sanitizer stage took $(( $(date +%s) - t0 )) s"
+fi
+
+# ---- ThreadSanitizer: core + tracking unit tests (tracking thread + local-mapping thread) ----
+TSAN="${IRAF_VO_TSAN:-}"
+if [ -z "$TSAN" ]; then
+  if [ "${CI:-}" = true ]; then TSAN=1; else TSAN=0; fi
+fi
+if [ "$TSAN" = 1 ]; then
+  TSAN_DIR="${IRAF_VO_TSAN_BUILD_DIR:-$ROOT/build-tsan}"
+  t0=$(date +%s)
+  mkdir -p "$TSAN_DIR"
+  export ROS_HOME="$TSAN_DIR/ros_home" ROS_LOG_DIR="$TSAN_DIR/ros_home/log"
+  mkdir -p "$ROS_LOG_DIR"
+  cmake -S "$ROOT" -B "$TSAN_DIR" -DCMAKE_BUILD_TYPE=Release -DIRAF_VO_SANITIZE=thread \
+    -DPYTHON_EXECUTABLE=/usr/bin/python3 -DPython3_EXECUTABLE=/usr/bin/python3 \
+    -DCATKIN_ENABLE_TESTING=ON >"$TSAN_DIR/cmake.log" 2>&1 \
+    || { cat "$TSAN_DIR/cmake.log"; echo "test.sh: tsan cmake configure failed" >&2; exit 1; }
+  tsan_tests=(test_tracking_roles test_tracking_pipeline test_tracking_e2e)
+  cmake --build "$TSAN_DIR" --target "${tsan_tests[@]}" -j"$(nproc)"
+  export TSAN_OPTIONS="${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1:suppressions=$ROOT/test/sanitizers/tsan.supp}"
+  rm -rf "$TSAN_DIR/test_results"
+  cd "$TSAN_DIR"
+  echo "test.sh: running the tracking unit tests under ThreadSanitizer ($TSAN_DIR)"
+  ctest --output-on-failure -j"$(nproc)" -R "gtest_($(IFS='|'; echo "${tsan_tests[*]}"))\$" || status=1
+  if [ -d "$TSAN_DIR/test_results" ]; then
+    catkin_test_results "$TSAN_DIR/test_results" || status=1
+  fi
+  echo "test.sh: thread sanitizer stage took $(( $(date +%s) - t0 )) s"
 fi
 exit $status

@@ -158,113 +158,6 @@ class AbortCallback final : public ceres::IterationCallback {
   const std::atomic<bool>* flag_;
 };
 
-// Pinhole without distortion on normalized coordinates scaled by `focal` (principal point 0): lets the two-view
-// refinement reuse bundleAdjust() on bearings with pixel-like residuals.
-class NormalizedPinhole final : public CameraModel {
- public:
-  explicit NormalizedPinhole(double f) : f_(f) {}
-  std::string modelName() const override { return "normalized"; }
-  bool project(const Eigen::Vector3d& p, Eigen::Vector2d* uv, Eigen::Matrix<double, 2, 3>* J) const override {
-    if (p.z() <= 1e-9) return false;
-    const double iz = 1.0 / p.z();
-    *uv = Eigen::Vector2d(f_ * p.x() * iz, f_ * p.y() * iz);
-    if (J) *J << f_ * iz, 0, -f_ * p.x() * iz * iz, 0, f_ * iz, -f_ * p.y() * iz * iz;
-    return true;
-  }
-  bool unproject(const Eigen::Vector2d& uv, Eigen::Vector3d* b) const override {
-    *b = Eigen::Vector3d(uv.x() / f_, uv.y() / f_, 1.0).normalized();
-    return true;
-  }
-  std::vector<double> parameters() const override { return {f_, f_, 0, 0}; }
-  double focal() const override { return f_; }
-
- private:
-  double f_;
-};
-
-Eigen::Vector2d normalized(const Eigen::Vector3d& b) { return Eigen::Vector2d(b.x() / b.z(), b.y() / b.z()); }
-
-// ORB-SLAM style scores (pixel units through `focal`): sum over both directions of (gate - e^2/sigma^2).
-double scoreHomography(const Eigen::Matrix3d& H, const std::vector<Eigen::Vector2d>& p1,
-                       const std::vector<Eigen::Vector2d>& p2, double focal, double sigma, std::vector<char>* inl) {
-  const Eigen::Matrix3d Hinv = H.inverse();
-  const double th = 5.991, inv_s2 = 1.0 / (sigma * sigma), f2 = focal * focal;
-  double score = 0.0;
-  inl->assign(p1.size(), 0);
-  for (size_t i = 0; i < p1.size(); ++i) {
-    const Eigen::Vector3d a = H * p1[i].homogeneous(), b = Hinv * p2[i].homogeneous();
-    const double e21 = (a.hnormalized() - p2[i]).squaredNorm() * f2 * inv_s2;
-    const double e12 = (b.hnormalized() - p1[i]).squaredNorm() * f2 * inv_s2;
-    if (e21 > th || e12 > th) continue;
-    (*inl)[i] = 1;
-    score += (th - e21) + (th - e12);
-  }
-  return score;
-}
-
-double scoreEssential(const Eigen::Matrix3d& E, const std::vector<Eigen::Vector2d>& p1,
-                      const std::vector<Eigen::Vector2d>& p2, double focal, double sigma, std::vector<char>* inl) {
-  const double th = 3.841, th_score = 5.991, inv_s2 = 1.0 / (sigma * sigma), f2 = focal * focal;
-  double score = 0.0;
-  inl->assign(p1.size(), 0);
-  for (size_t i = 0; i < p1.size(); ++i) {
-    const Eigen::Vector3d x1 = p1[i].homogeneous(), x2 = p2[i].homogeneous();
-    const Eigen::Vector3d l2 = E * x1, l1 = E.transpose() * x2;
-    const double num = x2.dot(l2);
-    const double e2 = num * num / (l2.head<2>().squaredNorm() + 1e-18) * f2 * inv_s2;  // distance in image 2
-    const double e1 = num * num / (l1.head<2>().squaredNorm() + 1e-18) * f2 * inv_s2;
-    if (e1 > th || e2 > th) continue;
-    (*inl)[i] = 1;
-    score += (th_score - e1) + (th_score - e2);
-  }
-  return score;
-}
-
-struct Hypothesis {
-  Eigen::Matrix3d R;
-  Eigen::Vector3d t;
-  int good = 0;
-  double parallax_deg = 0.0;
-  std::vector<Eigen::Vector3d> points;
-  std::vector<char> ok;
-};
-
-// Triangulate the inliers with (R, t): cheirality, reprojection (pixels via focal) and parallax checks.
-void checkRT(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, const std::vector<Eigen::Vector3d>& b1,
-             const std::vector<Eigen::Vector3d>& b2, const std::vector<char>& inl, double focal, double th_px,
-             Hypothesis* h) {
-  h->R = R;
-  h->t = t;
-  h->good = 0;
-  h->points.assign(b1.size(), Eigen::Vector3d::Zero());
-  h->ok.assign(b1.size(), 0);
-  Eigen::Isometry3d T1 = Eigen::Isometry3d::Identity(), T2 = Eigen::Isometry3d::Identity();
-  T2.linear() = R;
-  T2.translation() = t;
-  const double th2 = th_px * th_px * 4.0;  // chi2-like gate: (2 sigma)^2
-  std::vector<double> parallaxes;
-  for (size_t i = 0; i < b1.size(); ++i) {
-    if (!inl[i]) continue;
-    Eigen::Vector3d X;
-    if (!triangulateBearings(T1, b1[i], T2, b2[i], &X) || !X.allFinite()) continue;
-    const Eigen::Vector3d X2 = R * X + t;
-    if (X.z() <= 0 || X2.z() <= 0) continue;
-    // angular reprojection error converted to pixels
-    const double e1 = (X.normalized() - b1[i].normalized()).squaredNorm() * focal * focal;
-    const double e2 = (X2.normalized() - b2[i].normalized()).squaredNorm() * focal * focal;
-    if (e1 > th2 || e2 > th2) continue;
-    const double cosp = X.normalized().dot((X + R.transpose() * t).normalized());  // rays from both centres
-    h->points[i] = X;
-    h->ok[i] = 1;
-    ++h->good;
-    parallaxes.push_back(std::acos(std::clamp(cosp, -1.0, 1.0)) * 180.0 / M_PI);
-  }
-  if (!parallaxes.empty()) {
-    std::nth_element(parallaxes.begin(), parallaxes.begin() + parallaxes.size() / 2, parallaxes.end());
-    h->parallax_deg = parallaxes[parallaxes.size() / 2];
-  }
-}
-
 }  // namespace
 
 bool triangulateBearings(const Eigen::Isometry3d& T1, const Eigen::Vector3d& b1, const Eigen::Isometry3d& T2,
@@ -304,163 +197,6 @@ double reprojectionError2(const CameraModel& cam, const Eigen::Isometry3d& T_c_w
   Eigen::Vector2d pr;
   if (p_c.z() <= 1e-6 || !cam.project(p_c, &pr)) return -1.0;
   return (pr - uv).squaredNorm();
-}
-
-TwoViewResult initializeTwoView(const std::vector<Eigen::Vector3d>& b1_in, const std::vector<Eigen::Vector3d>& b2_in,
-                                double focal, const TwoViewParams& params) {
-  TwoViewResult res;
-  const size_t n_all = b1_in.size();
-  res.points.assign(n_all, Eigen::Vector3d::Zero());
-  res.triangulated.assign(n_all, 0);
-  if (b2_in.size() != n_all) {
-    res.reason = "bearing vectors of different sizes";
-    return res;
-  }
-  // Only rays in front of both cameras have normalized coordinates (fisheye rays beyond 90 deg are dropped).
-  std::vector<int> idx;
-  std::vector<Eigen::Vector3d> b1, b2;
-  std::vector<Eigen::Vector2d> p1, p2;
-  std::vector<cv::Point2f> c1, c2;
-  for (size_t i = 0; i < n_all; ++i) {
-    if (b1_in[i].z() < 0.1 || b2_in[i].z() < 0.1) continue;
-    idx.push_back(static_cast<int>(i));
-    b1.push_back(b1_in[i]);
-    b2.push_back(b2_in[i]);
-    p1.push_back(normalized(b1_in[i]));
-    p2.push_back(normalized(b2_in[i]));
-    c1.emplace_back(p1.back().x(), p1.back().y());
-    c2.emplace_back(p2.back().x(), p2.back().y());
-  }
-  if (idx.size() < static_cast<size_t>(std::max(8, params.min_triangulated))) {
-    res.reason = "too few matches (" + std::to_string(idx.size()) + ")";
-    return res;
-  }
-  const double th_norm = params.threshold_px / focal;
-  cv::Mat maskE, maskH;
-  cv::Mat E = cv::findEssentialMat(c1, c2, cv::Mat::eye(3, 3, CV_64F), cv::RANSAC, 0.999, th_norm, maskE);
-  cv::Mat H = cv::findHomography(c1, c2, cv::RANSAC, th_norm, maskH, 2000, 0.999);
-  Eigen::Matrix3d Ee = Eigen::Matrix3d::Zero(), He = Eigen::Matrix3d::Zero();
-  std::vector<char> inlE, inlH;
-  const bool haveE = E.rows == 3 && E.cols == 3, haveH = H.rows == 3 && H.cols == 3;
-  if (haveE) {
-    cv::cv2eigen(E, Ee);
-    res.score_f = scoreEssential(Ee, p1, p2, focal, params.threshold_px, &inlE);
-  }
-  if (haveH) {
-    cv::cv2eigen(H, He);
-    res.score_h = scoreHomography(He, p1, p2, focal, params.threshold_px, &inlH);
-  }
-  if (!haveE && !haveH) {
-    res.reason = "no essential / homography model";
-    return res;
-  }
-  // Model selection, ORB-SLAM: R_H = S_H / (S_H + S_F).
-  const double rh = res.score_h / std::max(1e-9, res.score_h + res.score_f);
-  const bool use_h = haveH && (!haveE || rh > params.homography_ratio);
-
-  std::vector<Hypothesis> hyps;
-  if (use_h) {
-    res.model = "homography";
-    std::vector<cv::Mat> Rs, ts, ns;
-    cv::decomposeHomographyMat(H, cv::Mat::eye(3, 3, CV_64F), Rs, ts, ns);
-    for (size_t k = 0; k < Rs.size(); ++k) {
-      Eigen::Matrix3d R;
-      Eigen::Vector3d t;
-      cv::cv2eigen(Rs[k], R);
-      cv::cv2eigen(ts[k], t);
-      if (t.norm() < 1e-9) continue;
-      hyps.emplace_back();
-      checkRT(R, t.normalized(), b1, b2, inlH, focal, params.threshold_px, &hyps.back());
-    }
-  } else {
-    res.model = "essential";
-    cv::Mat R1, R2, t;
-    cv::decomposeEssentialMat(E, R1, R2, t);
-    Eigen::Matrix3d Ra, Rb;
-    Eigen::Vector3d te;
-    cv::cv2eigen(R1, Ra);
-    cv::cv2eigen(R2, Rb);
-    cv::cv2eigen(t, te);
-    for (const auto& R : {Ra, Rb})
-      for (double s : {1.0, -1.0}) {
-        hyps.emplace_back();
-        checkRT(R, s * te.normalized(), b1, b2, inlE, focal, params.threshold_px, &hyps.back());
-      }
-  }
-  if (hyps.empty()) {
-    res.reason = res.model + ": no decomposition";
-    return res;
-  }
-  std::sort(hyps.begin(), hyps.end(), [](const Hypothesis& a, const Hypothesis& b) { return a.good > b.good; });
-  const Hypothesis& best = hyps[0];
-  const int second = hyps.size() > 1 ? hyps[1].good : 0;
-  res.median_parallax_deg = best.parallax_deg;
-  res.num_triangulated = best.good;
-  if (best.good < params.min_triangulated) {
-    res.reason = res.model + ": too few triangulated points (" + std::to_string(best.good) + ")";
-    return res;
-  }
-  if (second > 0.75 * best.good) {
-    res.reason = res.model + ": ambiguous decomposition (" + std::to_string(best.good) + " vs " +
-                 std::to_string(second) + ")";
-    return res;
-  }
-  if (best.parallax_deg < params.min_parallax_deg) {
-    res.reason = res.model + ": parallax too low (" + std::to_string(best.parallax_deg) + " deg)";
-    return res;
-  }
-  // Gold-standard refinement: two-view BA on the triangulated inliers (frame 1 fixed; the scale gauge is fixed
-  // afterwards by normalizing |t| = 1).
-  NormalizedPinhole ncam(focal);
-  std::vector<BAKeyframe> kf(2);
-  kf[0].fixed = true;
-  kf[1].T_c_w.linear() = best.R;
-  kf[1].T_c_w.translation() = best.t;
-  std::vector<BAPoint> bp;
-  std::vector<BAObservation> bo;
-  std::vector<int> which;
-  for (size_t k = 0; k < idx.size(); ++k) {
-    if (!best.ok[k]) continue;
-    const int pi = static_cast<int>(bp.size());
-    bp.push_back({best.points[k]});
-    bo.push_back({0, pi, focal * p1[k], params.threshold_px});
-    bo.push_back({1, pi, focal * p2[k], params.threshold_px});
-    which.push_back(static_cast<int>(k));
-  }
-  BAOptions bao;
-  bao.max_num_iterations = 15;
-  bao.max_solver_time_in_seconds = 0.2;
-  bao.huber_delta = 1.0;
-  BASummary bs;
-  Eigen::Matrix3d R = best.R;
-  Eigen::Vector3d t = best.t;
-  double scale = 1.0;
-  if (bundleAdjust(ncam, &kf, &bp, bo, bao, &bs) && kf[1].T_c_w.translation().norm() > 1e-9) {
-    R = kf[1].T_c_w.rotation();
-    scale = 1.0 / kf[1].T_c_w.translation().norm();
-    t = kf[1].T_c_w.translation() * scale;
-  } else {
-    bs.outlier.assign(bo.size(), 0);
-    for (size_t i = 0; i < bp.size(); ++i) bp[i].p_w = best.points[which[i]];
-  }
-  res.ok = true;
-  res.R_21 = R;
-  res.t_21 = t;
-  int n = 0;
-  for (size_t i = 0; i < which.size(); ++i) {
-    if (bs.outlier[2 * i] || bs.outlier[2 * i + 1]) continue;
-    const Eigen::Vector3d X = bp[i].p_w * scale;
-    if (X.z() <= 0 || (R * X + t).z() <= 0) continue;
-    res.points[idx[which[i]]] = X;
-    res.triangulated[idx[which[i]]] = 1;
-    ++n;
-  }
-  res.num_triangulated = n;
-  if (n < params.min_triangulated) {
-    res.ok = false;
-    res.reason = res.model + ": too few points after refinement (" + std::to_string(n) + ")";
-  }
-  return res;
 }
 
 int solvePnPBearings(const std::vector<Eigen::Vector3d>& p_w, const std::vector<Eigen::Vector3d>& bearings,
@@ -637,6 +373,42 @@ int optimizePose(const CameraModel& cam, const std::vector<Eigen::Vector3d>& p_w
     if (n_inliers < 4) return n_inliers;
   }
   return n_inliers;
+}
+
+Eigen::Matrix<double, 6, 6> poseInformation(const CameraModel& cam, const std::vector<Eigen::Vector3d>& p_w,
+                                            const std::vector<Eigen::Vector2d>& uv, const std::vector<double>& sigma,
+                                            const Eigen::Isometry3d& T_c_w) {
+  Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
+  const Eigen::Matrix3d R = T_c_w.rotation();
+  for (size_t i = 0; i < p_w.size(); ++i) {
+    const Eigen::Vector3d Rp = R * p_w[i];
+    const Eigen::Vector3d pc = Rp + T_c_w.translation();
+    Eigen::Vector2d pr;
+    Eigen::Matrix<double, 2, 3> J;
+    if (pc.z() <= 1e-6 || !cam.project(pc, &pr, &J)) continue;
+    Eigen::Matrix<double, 2, 6> Jp;
+    Jp.leftCols<3>() = J / sigma[i];
+    Jp.rightCols<3>() = -Jp.leftCols<3>() * skew(Rp);
+    H.noalias() += Jp.transpose() * Jp;
+  }
+  return H;
+}
+
+Eigen::Matrix<double, 6, 6> worldPoseCovariance(const Eigen::Matrix<double, 6, 6>& information,
+                                                const Eigen::Isometry3d& T_c_w) {
+  // c = -R^T t. With t' = t + dt, R' = Exp(dtheta) R: dc = -R^T (dt + [t]x dtheta); the world-frame rotation
+  // perturbation of R_wc = R^T is -R^T dtheta.
+  const Eigen::Matrix3d Rt = T_c_w.rotation().transpose();
+  Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Zero();
+  A.topLeftCorner<3, 3>() = -Rt;
+  A.topRightCorner<3, 3>() = -Rt * skew(T_c_w.translation());
+  A.bottomRightCorner<3, 3>() = -Rt;
+  // Regularized inverse: a pose seen by too few / degenerate points gets a large but finite covariance.
+  Eigen::Matrix<double, 6, 6> Hr = information;
+  Hr.diagonal().array() += 1e-9 * std::max(1.0, information.diagonal().maxCoeff());
+  const Eigen::Matrix<double, 6, 6> C = Hr.ldlt().solve(Eigen::Matrix<double, 6, 6>::Identity());
+  Eigen::Matrix<double, 6, 6> out = A * C * A.transpose();
+  return 0.5 * (out + out.transpose());
 }
 
 double reprojectionRmse(const CameraModel& cam, const std::vector<BAKeyframe>& kfs, const std::vector<BAPoint>& pts,

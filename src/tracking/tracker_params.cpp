@@ -53,6 +53,12 @@ std::string validate(const TrackerParams& p) {
   if (p.starving_inliers < 0) return bad("starving_inliers", "must be >= 0");
   if (p.sync_mapping_busy_frames < 0) return bad("sync_mapping_busy_frames", "must be >= 0");
   if (p.lost_frames_before_reset < 0) return bad("lost_frames_before_reset", "must be >= 0");
+  if (!(p.health_min_inlier_ratio >= 0 && p.health_min_inlier_ratio <= 1)) return bad("health_min_inlier_ratio", "must be in [0, 1]");
+  if (!(p.health_max_median_chi2 > 0 && std::isfinite(p.health_max_median_chi2))) return bad("health_max_median_chi2", "must be > 0 and finite");
+  if (!(p.health_max_accel_ratio > 0 && std::isfinite(p.health_max_accel_ratio))) return bad("health_max_accel_ratio", "must be > 0 and finite");
+  if (!(p.health_min_accel_depth >= 0 && std::isfinite(p.health_min_accel_depth))) return bad("health_min_accel_depth", "must be >= 0 and finite");
+  if (!(p.health_max_rot_accel_deg > 0 && std::isfinite(p.health_max_rot_accel_deg))) return bad("health_max_rot_accel_deg", "must be > 0 and finite");
+  if (!(p.health_max_ba_scale_change > 1 && std::isfinite(p.health_max_ba_scale_change))) return bad("health_max_ba_scale_change", "must be > 1 and finite");
   return "";
 }
 

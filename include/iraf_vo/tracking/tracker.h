@@ -1,51 +1,23 @@
-// Monocular tracking and mapping core (ROS-free): two-view initialization, frame-to-map tracking,
-// keyframes, triangulation, sliding-window Ceres bundle adjustment on a local-mapping thread, and
-// tracking-loss recovery.
+// Monocular tracking and mapping core (ROS-free): the public facade. Tracker::track runs the state machine
+// (src/tracking/tracker.cpp) over role classes that own their data:
+//   Frame (frame.h)               keypoints undistorted once into bearings + a pixel grid
+//   Map (map.h)                   keyframes, map points, observations, covisibility; the map mutex
+//   Matcher (matcher.h)           projection search, brute force, epipolar search; MatchSet
+//   MapInitializer (map_initializer.h)  two-view initialization (H vs E), first two keyframes
+//   PoseTracker (pose_tracker.h)  motion-model prediction -> projection search -> PnP fallback -> refinement
+//   needNewKeyframe (keyframe_policy.h)  the keyframe decision
+//   LocalMapper (local_mapper.h)  its thread, queue, back-pressure, triangulation, point culling, local BA
+//   LocalBAProblem (local_ba.h)   the sliding window and its monocular gauge
+//   TrackingHealthMonitor (health_monitor.h)  rejects untrustworthy poses (reported lost, never tracking)
 //
-// Per frame (Tracker::track):
-//   1. Undistort every keypoint once: bearing = CameraModel::unproject(uv); keypoints go into a pixel grid.
-//   2. Not initialized: two-view initialization against a reference frame (initializeTwoView: H vs E with
-//      ORB-SLAM scores, cheirality / reprojection / parallax checks). The reference is replaced when it is
-//      older than init_max_frames or has fewer than init_min_matches matches. Map scale: median depth 1
-//      (after a loss: the last known median depth, see "Loss recovery").
-//   3. Tracking: constant-velocity prediction -> projection search of the local map (all points of the
-//      keyframes kept in the map) in a window of search_radius_px * scale_factor^octave around the
-//      projection, Hamming <= match_threshold_high, ratio test, octave within +-1 of the point's octave ->
-//      if too few matches: wider window (search_radius_wide_px) -> if still too few: brute-force matching
-//      against the last keyframe (+ rotation-consistency histogram) and cv::solvePnPRansac (AP3P) ->
-//      pose-only Ceres refinement (Huber, chi2 5.991 outlier rejection) -> a second, narrow projection
-//      search (search_radius_refine_px) with the refined pose -> refinement again.
-//   4. Tracked iff inliers >= min_tracking_inliers.
-//
-// Keyframe policy (decided in the tracking thread, ORB-SLAM mono flavour):
-//   new keyframe iff frames since the last keyframe >= min_frames_between_keyframes AND one of
-//     (a) inliers < keyframe_min_tracked                                   (losing the map: insert now)
-//     (b) inliers < keyframe_tracked_ratio * (points of the reference keyframe seen by >= 2 keyframes)
-//         (0.9 as ORB-SLAM mono) AND (mapping thread idle OR frames since last keyframe >= max_frames_between_keyframes)
-//         (mapping_thread = false: "idle" = frames since last keyframe >= sync_mapping_busy_frames)
-//     (c) frames since the last keyframe >= max_frames_between_keyframes AND inliers < 0.98 * reference
-//   The keyframe gets the frame's inlier matches as observations.
-//
-// Local mapping (own thread unless mapping_thread = false; tracking never waits for it except on reset; when
-//   the map is starving (keyframe with inliers < starving_inliers) the tracking thread triangulates that keyframe
-//   itself so that new points do not wait behind a BA):
-//   for each new keyframe: cull recent points (found/visible < min_found_ratio, or <= 2 observations two
-//   keyframes after creation), triangulate new points between the keyframe and its num_triangulation_neighbors
-//   best covisible keyframes (unmatched keypoints, Hamming <= match_threshold_low, epipolar check on bearings,
-//   cheirality, reprojection chi2, min_triangulation_parallax_deg), then sliding-window BA when no other
-//   keyframe is waiting or ba_every_keyframes keyframes were processed since the last BA.
-// Sliding-window BA (bundleAdjust): the newest ba_window_size keyframes and the points they observe are free;
-//   every other keyframe still in the map that observes those points is held fixed (gauge). If fewer than
-//   two keyframes end up fixed (start of a map), or the fixed centres span less than ba_min_fixed_span of the
-//   window's extent (scale only weakly held: it drifted towards 0 in fast-motion runs), the oldest window
-//   keyframes are fixed until both hold: monocular gauge = 6 dof pose + 1 dof scale. Huber loss on sigma-normalized pixel residuals, bounded by
-//   ba_max_num_iterations / ba_max_solver_time_in_seconds, aborted when a new keyframe arrives; results are
-//   merged under the map mutex; observations failing chi2 afterwards are removed.
-// Bounded memory: the map keeps at most max_map_keyframes keyframes (>= ba_window_size); the oldest
-//   keyframe is dropped with its observations, and points without observations are deleted.
+// Per frame: undistort -> not initialized: two-view initialization against a reference frame; map scale =
+// median depth 1 (after a loss: the last known median depth) -> tracking: PoseTracker::trackLocalMap; tracked
+// iff inliers >= min_tracking_inliers and the health monitor trusts the pose -> keyframe decision -> LocalMapper (own thread unless mapping_thread =
+// false; tracking never waits for it except on reset and under back-pressure; when the map is starving
+// (keyframe with inliers < starving_inliers) the tracking thread triangulates that keyframe itself).
 //
 // Loss recovery: a frame with < min_tracking_inliers inliers is lost (kLost; lost_frames++, and lost_events++
-//   on the transition). The next frames try relocalization (brute force against the map's keyframes + PnP).
+//   on the transition). The next frames try relocalization (brute force against the map's points + PnP).
 //   After lost_frames_before_reset consecutive lost frames the map is cleared and initialization restarts
 //   (no restart of the program). The new map is re-anchored: its reference frame gets the last good pose
 //   T_w_c and its median depth is set to the last tracked frame's median depth, so the published trajectory
@@ -57,7 +29,7 @@
 
 #include <iraf_vo/camera/camera_model.h>
 #include <iraf_vo/features/feature_frame.h>
-#include <iraf_vo/tracking/geometry.h>
+#include <iraf_vo/tracking/map.h>
 #include <iraf_vo/tracking/tracker_params.h>
 
 #include <Eigen/Core>
@@ -89,6 +61,12 @@ struct TrackResult {
   bool initialized_now = false;  // this frame completed a (re-)initialization
   bool used_pnp = false;
   std::vector<char> keypoint_inlier;  // per input keypoint: 1 = matched to a map point and a pose inlier
+  /// Covariance of T_w_c in the world frame, [x y z rx ry rz] (map units, radians), from the pose refinement's
+  /// information matrix with sigma = scale_factor^octave px per keypoint (valid when state == kTracking).
+  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Identity();
+  double inlier_ratio = 0.0;  // inliers / matches of the final pose refinement
+  double median_chi2 = 0.0;   // of the inliers
+  std::string rejected;       // why the health monitor rejected a computed pose ("" if it did not)
   TrackTiming timing;
 };
 
@@ -100,16 +78,12 @@ struct TrackerStats {
   long resets = 0;
   long initializations = 0;
   long keyframes = 0;
+  long rejected = 0;               // tracked poses rejected by the health monitor (counted as lost frames)
   long ba_runs = 0;
   double ba_ms_total = 0.0;
   double ba_final_rmse_px = 0.0;   // last BA
 };
 
-struct KeyframePose {
-  long id = 0;
-  double stamp = 0.0;
-  Eigen::Isometry3d T_w_c = Eigen::Isometry3d::Identity();
-};
 
 class Tracker {
  public:
@@ -131,9 +105,8 @@ class Tracker {
   TrackingState state() const;
   const TrackerParams& params() const;
   /// Waits until the local-mapping thread has processed every queued keyframe (offline runs, tests).
+  /// track() is called from one thread; the queries above may be called from any thread.
   void waitForMapping();
-  /// Clears the map and restarts initialization (keeps stats).
-  void reset();
 
  private:
   struct Impl;

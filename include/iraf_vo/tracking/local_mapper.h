@@ -1,0 +1,83 @@
+// Local mapping: per new keyframe, cull recent points, update descriptors, create new map points by
+// triangulation against the covisible keyframes, run the sliding-window BA (local_ba.h) and bound the map.
+// Runs on its own thread (mapping_thread = true) or synchronously inside insertKeyframe. ROS-free.
+//
+//   for each new keyframe: cull recent points (found/visible < min_found_ratio, or <= 2 observations two
+//   keyframes after creation), triangulate new points between the keyframe and its num_triangulation_neighbors
+//   best covisible keyframes (unmatched keypoints, Hamming <= match_threshold_low, epipolar check on bearings,
+//   cheirality, reprojection chi2, min_triangulation_parallax_deg), then sliding-window BA when no other
+//   keyframe is waiting or ba_every_keyframes keyframes were processed since the last BA.
+// BA: Huber loss on sigma-normalized pixel residuals, bounded by ba_max_num_iterations /
+//   ba_max_solver_time_in_seconds, aborted when a new keyframe arrives if ba_abort_on_keyframe; results are
+//   merged under the map mutex; observations failing chi2 afterwards are removed.
+#pragma once
+
+#include <iraf_vo/camera/camera_model.h>
+#include <iraf_vo/tracking/map.h>
+#include <iraf_vo/tracking/matcher.h>
+#include <iraf_vo/tracking/tracker_params.h>
+
+#include <atomic>
+#include <condition_variable>
+#include <deque>
+#include <mutex>
+#include <thread>
+
+namespace iraf_vo {
+
+struct LocalMapperStats {
+  long ba_runs = 0;
+  double ba_ms_total = 0.0;
+  double ba_final_rmse_px = 0.0;  // last BA
+};
+
+class LocalMapper {
+ public:
+  /// Starts the mapping thread when params.mapping_thread. camera, params, map must outlive the mapper.
+  LocalMapper(const CameraModel& camera, const TrackerParams& params, Map* map);
+  ~LocalMapper();
+  LocalMapper(const LocalMapper&) = delete;
+  LocalMapper& operator=(const LocalMapper&) = delete;
+
+  /// Queues a keyframe (threaded; waits while max_pending_keyframes are pending = back-pressure under overload)
+  /// or processes it right here (synchronous mapping).
+  void insertKeyframe(long kf_id);
+  /// No keyframe queued or being processed (always true for synchronous mapping).
+  bool idle() const;
+  /// Blocks until every queued keyframe is processed.
+  void waitUntilIdle();
+  /// Drops queued keyframes, aborts a running BA and waits until the thread is idle (map reset).
+  void clearQueue();
+  /// Triangulates the keyframe's new points (once per keyframe; the tracker calls it when the map starves).
+  void createNewMapPoints(long kf_id);
+  LocalMapperStats stats() const;
+  /// The largest change of the window's extent (after / before, or its inverse if that is larger, as a factor
+  /// >= 1 with the direction kept: < 1 shrank) by a local BA since the last call; 1 when none ran.
+  double takeScaleChange();
+
+ private:
+  void run();
+  void processKeyframe(long kf_id, bool run_ba);
+  void localBundleAdjustment();
+  void recordScaleChange(double extent_before, const LocalBAProblem& after);
+
+  const CameraModel& cam_;
+  const TrackerParams& p_;
+  Map* map_;
+  Matcher matcher_;
+
+  mutable std::mutex queue_mutex_;
+  std::condition_variable queue_cv_, idle_cv_;
+  std::deque<long> queue_;
+  bool busy_ = false, stop_ = false;
+  int keyframes_since_ba_ = 0;  // mapping thread only
+  std::atomic<bool> abort_ba_{false};
+  std::mutex scale_mutex_;
+  double scale_change_ = 1.0;  // guarded by scale_mutex_
+  std::thread thread_;
+
+  mutable std::mutex stats_mutex_;
+  LocalMapperStats stats_;
+};
+
+}  // namespace iraf_vo

@@ -1,0 +1,153 @@
+// The local map: keyframes, map points, their observations and covisibility, under one mutex owned by
+// Map. Shared by the tracking thread and the local-mapping thread; every method locks. ROS-free.
+//
+// Bounded memory: dropOldKeyframes keeps at most max_map_keyframes keyframes; the oldest one is dropped with
+// its observations, and points without observations are deleted.
+#pragma once
+
+#include <iraf_vo/tracking/frame.h>
+#include <iraf_vo/tracking/geometry.h>
+#include <iraf_vo/tracking/local_ba.h>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <atomic>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <unordered_map>
+#include <vector>
+
+namespace iraf_vo {
+
+struct MapPoint {
+  long id = 0;
+  Eigen::Vector3d p_w = Eigen::Vector3d::Zero();
+  Descriptor desc{};        // ORB-SLAM's distinctive descriptor (updateDescriptors)
+  int octave = 0;
+  float angle = -1.f;
+  std::map<long, int> obs;  // keyframe id -> keypoint index
+  long first_kf = 0;        // keyframe that created the point
+  int visible = 1, found = 1;
+};
+
+struct Keyframe {
+  long id = 0;
+  long frame_index = 0;
+  double stamp = 0.0;
+  double scale_factor = 1.2;
+  Eigen::Isometry3d T_c_w = Eigen::Isometry3d::Identity();
+  // immutable after creation:
+  std::vector<cv::KeyPoint> keypoints;
+  cv::Mat descriptors;
+  std::vector<Eigen::Vector3d> bearings;
+  std::vector<char> valid;
+  // guarded by the map mutex:
+  std::vector<long> point_id;
+  std::atomic<bool> triangulated{false};  // new points created already (by the mapping thread or a starving tracker)
+
+  /// A keyframe with the frame's keypoints and no observations yet (id assigned by the map).
+  static std::shared_ptr<Keyframe> fromFrame(const Frame& f, const Eigen::Isometry3d& T_c_w);
+  double sigma(int octave) const { return octaveSigma(scale_factor, octave); }
+};
+
+using KeyframePtr = std::shared_ptr<Keyframe>;
+using MapPointPtr = std::shared_ptr<MapPoint>;
+
+/// What the tracking thread matches against: a copy of a map point's position and appearance.
+struct LocalPoint {
+  long id;
+  Eigen::Vector3d p_w;
+  Descriptor desc;
+  int octave;
+  float angle;
+};
+
+/// A point triangulated between keypoint kp_a of keyframe kf_a (gives descriptor, octave, angle) and kp_b of kf_b.
+struct NewMapPoint {
+  Eigen::Vector3d p_w;
+  long kf_a;
+  int kp_a;
+  long kf_b;
+  int kp_b;
+};
+
+/// A keyframe to triangulate against, with a copy of its pose and observations taken under the lock.
+struct TriangulationNeighbor {
+  KeyframePtr keyframe;
+  Eigen::Isometry3d T_c_w;
+  std::vector<long> point_id;
+};
+
+/// Everything createNewMapPoints needs, copied under the map lock.
+struct TriangulationInput {
+  KeyframePtr keyframe;
+  Eigen::Isometry3d T_c_w;
+  std::vector<long> point_id;
+  std::vector<TriangulationNeighbor> neighbors;  // most covisible first, then the most recent keyframes
+  double median_depth = 1.0;
+};
+
+/// Keyframe poses as published.
+struct KeyframePose {
+  long id = 0;
+  double stamp = 0.0;
+  Eigen::Isometry3d T_w_c = Eigen::Isometry3d::Identity();
+};
+
+class Map {
+ public:
+  // ---- map creation ----
+  /// Adds a new map's first two keyframes and the points triangulated between them (NewMapPoint with
+  /// kf_a = kf1, kf_b = kf0; the ids in the points are ignored). Fewer than min_points points -> rolled back,
+  /// returns false. *created = points created (before a roll-back).
+  bool createInitialMap(const KeyframePtr& kf0, const KeyframePtr& kf1, const std::vector<NewMapPoint>& points,
+                        int min_points, int* created);
+  /// Adds a keyframe made from a tracked frame: its matched points (f.point_id) become observations.
+  long addKeyframe(const Frame& f);
+  void clear();
+
+  // ---- tracking thread ----
+  std::vector<LocalPoint> localPoints() const;
+  bool keyframePose(long id, Eigen::Isometry3d* T_c_w) const;
+  /// Points seen in the frame's view (visible) and matched (found): ORB-SLAM's found ratio.
+  void countVisibility(const std::vector<LocalPoint>& local, const std::vector<char>& visible,
+                       const std::vector<int>& keypoint_of_point);
+  /// Points of keyframe kf_id observed by >= min_observations keyframes.
+  int trackedPoints(long kf_id, size_t min_observations) const;
+
+  // ---- local mapping ----
+  /// Erases recent points found in fewer than min_found_ratio of the frames that saw them, or observed by
+  /// <= 2 keyframes two keyframes after their creation.
+  void cullRecentPoints(long current_kf, double min_found_ratio);
+  /// ORB-SLAM's distinctive descriptor for the points seen by a keyframe.
+  void updateDescriptors(long kf_id);
+  /// Claims a keyframe for triangulation (false if done already or gone) and copies its inputs.
+  bool claimForTriangulation(long kf_id, int num_neighbors, TriangulationInput* in);
+  /// Adds triangulated points (kf_a = the new keyframe) unless a keypoint got a point meanwhile.
+  void addTriangulatedPoints(const std::vector<NewMapPoint>& points);
+  /// The sliding-window BA problem of the newest window_size keyframes (see local_ba.h).
+  LocalBAProblem localBAProblem(int window_size, double min_fixed_span) const;
+  /// Writes the optimized poses / points back and removes observations flagged as outliers.
+  void applyLocalBA(const LocalBAProblem& problem, const BASummary& summary);
+  void dropOldKeyframes(int max_keyframes);
+
+  // ---- queries (any thread) ----
+  std::vector<Eigen::Vector3d> pointPositions() const;
+  std::vector<KeyframePose> keyframePoses() const;
+  size_t numKeyframes() const;
+  size_t numPoints() const;
+
+ private:
+  long createPointLocked(const Eigen::Vector3d& p_w, Keyframe& a, int kp_a, Keyframe& b, int kp_b);
+  void erasePointLocked(long id);
+
+  mutable std::mutex mutex_;
+  std::map<long, KeyframePtr> keyframes_;
+  std::unordered_map<long, MapPointPtr> points_;
+  std::vector<long> recent_points_;
+  long next_keyframe_id_ = 0, next_point_id_ = 0;
+};
+
+}  // namespace iraf_vo

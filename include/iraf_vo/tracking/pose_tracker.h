@@ -1,0 +1,53 @@
+// Frame-to-map pose tracking (tracking thread): constant-velocity prediction -> projection search of the
+// local map (all points of the keyframes kept in the map) in a window of search_radius_px * sigma(octave)
+// around the projection, octave within +-1 -> if too few matches: wider window (search_radius_wide_px) ->
+// if still too few inliers: relocalization (brute force against the map points + PnP RANSAC) -> pose-only
+// refinement (Huber, chi2 5.991 outlier rejection) -> a second, narrow projection search
+// (search_radius_refine_px) with the refined pose -> refinement again. Tracked iff inliers >=
+// min_tracking_inliers. ROS-free.
+#pragma once
+
+#include <iraf_vo/camera/camera_model.h>
+#include <iraf_vo/tracking/frame.h>
+#include <iraf_vo/tracking/map.h>
+#include <iraf_vo/tracking/matcher.h>
+#include <iraf_vo/tracking/tracker_params.h>
+
+namespace iraf_vo {
+
+struct PoseTrackingResult {
+  bool tracked = false;
+  int matches = 0;          // projection-search matches before the pose refinement
+  int inliers = 0;
+  bool used_pnp = false;    // relocalized by brute force + PnP
+  int refine_matches = 0;   // matches entering the final pose refinement
+  double median_chi2 = 0.0; // median sigma-normalized squared reprojection error of the inliers
+  Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();  // of T_c_w (poseInformation)
+  bool has_median_depth = false;
+  double median_depth = 0;  // of the inlier points in the frame
+  double ms_match = 0.0, ms_pose = 0.0;
+};
+
+class PoseTracker {
+ public:
+  PoseTracker(const CameraModel& camera, const TrackerParams& params) : cam_(camera), p_(params), matcher_(camera, params) {}
+
+  /// Tracks `cur` against the map starting from T_predicted. On success sets cur.T_c_w and cur.point_id and
+  /// counts the map points' visibility.
+  PoseTrackingResult trackLocalMap(Frame& cur, const Eigen::Isometry3d& T_predicted, Map* map) const;
+
+ private:
+  /// Pose-only refinement from the matches; outlier matches are removed. Returns the inliers.
+  int refinePose(const Frame& f, const std::vector<LocalPoint>& local, MatchSet* matches, Eigen::Isometry3d* T) const;
+  /// Median chi2 and information matrix of the final inliers.
+  void describeInliers(const Frame& f, const std::vector<LocalPoint>& local, const MatchSet& matches,
+                       const Eigen::Isometry3d& T, PoseTrackingResult* res) const;
+  /// Brute force against all local points + PnP RANSAC; replaces *matches by the PnP inliers. Returns inliers.
+  int relocalize(const Frame& f, const std::vector<LocalPoint>& local, MatchSet* matches, Eigen::Isometry3d* T) const;
+
+  const CameraModel& cam_;
+  const TrackerParams& p_;
+  Matcher matcher_;
+};
+
+}  // namespace iraf_vo

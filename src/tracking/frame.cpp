@@ -1,0 +1,89 @@
+#include <iraf_vo/tracking/frame.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace iraf_vo {
+
+int hammingDistance(const uint8_t* a, const uint8_t* b) {
+  int d = 0;
+  for (int k = 0; k < 4; ++k) {
+    uint64_t x, y;
+    std::memcpy(&x, a + 8 * k, 8);
+    std::memcpy(&y, b + 8 * k, 8);
+    d += __builtin_popcountll(x ^ y);
+  }
+  return d;
+}
+
+Descriptor descriptorRow(const cv::Mat& descriptors, int r) {
+  Descriptor out;
+  std::memcpy(out.data(), descriptors.ptr<uint8_t>(r), 32);
+  return out;
+}
+
+double octaveSigma(double scale_factor, int octave) { return std::pow(scale_factor, std::max(0, octave)); }
+
+bool Frame::fromFeatures(const FeatureFrame& in, const CameraModel& camera, long index, Frame* f,
+                         std::string* error) {
+  f->index = index;
+  f->stamp = in.stamp;
+  f->scale_factor = in.scale_factor > 1.0 ? in.scale_factor : 1.2;
+  const size_t n = in.keypoints.size();
+  if (n > 0 && (in.descriptors.rows != static_cast<int>(n) || in.descriptors.cols != 32 ||
+                in.descriptors.type() != CV_8U)) {
+    *error = "descriptors must be N x 32 CV_8U with N = keypoints (" + std::to_string(n) + "), got " +
+             std::to_string(in.descriptors.rows) + " x " + std::to_string(in.descriptors.cols);
+    return false;
+  }
+  f->keypoints = in.keypoints;
+  f->descriptors = in.descriptors.isContinuous() ? in.descriptors : in.descriptors.clone();
+  f->bearings.assign(n, Eigen::Vector3d::Zero());
+  f->valid.assign(n, 0);
+  f->point_id.assign(n, -1);
+  for (size_t i = 0; i < n; ++i) {
+    const cv::Point2f& pt = f->keypoints[i].pt;
+    if (!std::isfinite(pt.x) || !std::isfinite(pt.y)) continue;
+    Eigen::Vector3d b;
+    if (camera.unproject(Eigen::Vector2d(pt.x, pt.y), &b) && b.allFinite()) {
+      f->bearings[i] = b.normalized();
+      f->valid[i] = 1;
+    }
+  }
+  f->buildGrid(camera.width() > 0 ? camera.width() : std::max(1, in.width),
+               camera.height() > 0 ? camera.height() : std::max(1, in.height));
+  return true;
+}
+
+void Frame::buildGrid(int width, int height) {
+  cols_ = std::max(1, static_cast<int>(std::ceil(width / cell_)));
+  rows_ = std::max(1, static_cast<int>(std::ceil(height / cell_)));
+  grid_.assign(static_cast<size_t>(cols_ * rows_), {});
+  for (size_t i = 0; i < keypoints.size(); ++i) {
+    if (!valid[i]) continue;
+    const int cx = std::clamp(static_cast<int>(keypoints[i].pt.x / cell_), 0, cols_ - 1);
+    const int cy = std::clamp(static_cast<int>(keypoints[i].pt.y / cell_), 0, rows_ - 1);
+    grid_[static_cast<size_t>(cy * cols_ + cx)].push_back(static_cast<int>(i));
+  }
+}
+
+void Frame::featuresInArea(double u, double v, double r, int min_octave, int max_octave,
+                           std::vector<int>* out) const {
+  out->clear();
+  const int x0 = std::max(0, static_cast<int>((u - r) / cell_));
+  const int x1 = std::min(cols_ - 1, static_cast<int>((u + r) / cell_));
+  const int y0 = std::max(0, static_cast<int>((v - r) / cell_));
+  const int y1 = std::min(rows_ - 1, static_cast<int>((v + r) / cell_));
+  const double r2 = r * r;
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x)
+      for (int i : grid_[static_cast<size_t>(y * cols_ + x)]) {
+        const cv::KeyPoint& kp = keypoints[i];
+        if (kp.octave < min_octave || kp.octave > max_octave) continue;
+        const double du = kp.pt.x - u, dv = kp.pt.y - v;
+        if (du * du + dv * dv <= r2) out->push_back(i);
+      }
+}
+
+}  // namespace iraf_vo

@@ -1,0 +1,119 @@
+#include <iraf_vo/tracking/local_ba.h>
+#include <iraf_vo/tracking/map.h>
+
+#include <algorithm>
+#include <unordered_map>
+
+namespace iraf_vo {
+
+int fixMonocularGauge(std::vector<BAKeyframe>* keyframes, int window_size, double min_fixed_span) {
+  std::vector<BAKeyframe>& bk = *keyframes;
+  int num_fixed = static_cast<int>(std::count_if(bk.begin(), bk.end(), [](const BAKeyframe& k) { return k.fixed; }));
+  if (window_size < 1) return num_fixed;
+  auto centre = [&](size_t k) { return Eigen::Vector3d(bk[k].T_c_w.inverse().translation()); };
+  const double window_span = (centre(0) - centre(static_cast<size_t>(window_size - 1))).norm();
+  auto fixedSpan = [&]() {
+    double m = 0.0;
+    for (size_t i = 0; i < bk.size(); ++i)
+      for (size_t j = i + 1; j < bk.size(); ++j)
+        if (bk[i].fixed && bk[j].fixed) m = std::max(m, (centre(i) - centre(j)).norm());
+    return m;
+  };
+  for (int w = window_size - 1; w >= 1; --w) {
+    if (bk[w].fixed) continue;
+    if (num_fixed >= 2 && fixedSpan() >= min_fixed_span * window_span) break;
+    bk[w].fixed = true;
+    ++num_fixed;
+  }
+  return num_fixed;
+}
+
+double windowExtent(const LocalBAProblem& prob) {
+  double extent = 0.0;
+  if (prob.window_size < 1) return 0.0;
+  const Eigen::Vector3d newest = prob.keyframes[0].T_c_w.inverse().translation();
+  for (int k = 1; k < prob.window_size; ++k)
+    extent = std::max(extent, (prob.keyframes[k].T_c_w.inverse().translation() - newest).norm());
+  return extent;
+}
+
+// Map's side of the local BA: building the problem and merging the result, each under the map lock.
+LocalBAProblem Map::localBAProblem(int window_size, double min_fixed_span) const {
+  LocalBAProblem prob;
+  std::lock_guard<std::mutex> lk(mutex_);
+  if (keyframes_.size() < 2) return prob;
+  std::unordered_map<long, int> kf_index;
+  int nwin = 0;
+  for (auto it = keyframes_.rbegin(); it != keyframes_.rend() && nwin < window_size; ++it, ++nwin) {
+    kf_index[it->first] = static_cast<int>(prob.keyframe_ids.size());
+    prob.keyframe_ids.push_back(it->first);
+    BAKeyframe b;
+    b.T_c_w = it->second->T_c_w;
+    prob.keyframes.push_back(b);
+  }
+  prob.window_size = nwin;
+  std::unordered_map<long, int> pt_index;
+  for (int w = 0; w < nwin; ++w) {
+    const Keyframe& kf = *keyframes_.at(prob.keyframe_ids[w]);
+    for (long pid : kf.point_id) {
+      if (pid < 0 || pt_index.count(pid)) continue;
+      auto pt = points_.find(pid);
+      if (pt == points_.end() || pt->second->obs.size() < 2) continue;
+      pt_index[pid] = static_cast<int>(prob.point_ids.size());
+      prob.point_ids.push_back(pid);
+      prob.points.push_back({pt->second->p_w});
+    }
+  }
+  // Observations; keyframes outside the window that see window points are fixed (gauge).
+  for (size_t pi = 0; pi < prob.point_ids.size(); ++pi) {
+    const MapPoint& mp = *points_.at(prob.point_ids[pi]);
+    for (const auto& o : mp.obs) {
+      auto k = keyframes_.find(o.first);
+      if (k == keyframes_.end()) continue;
+      auto ki = kf_index.find(o.first);
+      int kidx;
+      if (ki == kf_index.end()) {
+        kidx = static_cast<int>(prob.keyframe_ids.size());
+        kf_index[o.first] = kidx;
+        prob.keyframe_ids.push_back(o.first);
+        BAKeyframe b;
+        b.T_c_w = k->second->T_c_w;
+        b.fixed = true;
+        prob.keyframes.push_back(b);
+      } else {
+        kidx = ki->second;
+      }
+      const cv::KeyPoint& kp = k->second->keypoints[o.second];
+      prob.observations.push_back(
+          {kidx, static_cast<int>(pi), Eigen::Vector2d(kp.pt.x, kp.pt.y), k->second->sigma(kp.octave)});
+      prob.observation_keypoint.emplace_back(o.first, o.second);
+    }
+  }
+  fixMonocularGauge(&prob.keyframes, nwin, min_fixed_span);
+  return prob;
+}
+
+void Map::applyLocalBA(const LocalBAProblem& prob, const BASummary& summary) {
+  std::lock_guard<std::mutex> lk(mutex_);
+  for (size_t k = 0; k < prob.keyframe_ids.size(); ++k) {
+    if (prob.keyframes[k].fixed) continue;
+    auto it = keyframes_.find(prob.keyframe_ids[k]);
+    if (it != keyframes_.end()) it->second->T_c_w = prob.keyframes[k].T_c_w;
+  }
+  for (size_t i = 0; i < prob.point_ids.size(); ++i) {
+    auto it = points_.find(prob.point_ids[i]);
+    if (it != points_.end()) it->second->p_w = prob.points[i].p_w;
+  }
+  for (size_t j = 0; j < prob.observations.size(); ++j) {
+    if (!summary.outlier[j]) continue;
+    auto pt = points_.find(prob.point_ids[prob.observations[j].point]);
+    if (pt == points_.end()) continue;
+    const auto& [kf_id, kp] = prob.observation_keypoint[j];
+    auto k = keyframes_.find(kf_id);
+    pt->second->obs.erase(kf_id);
+    if (k != keyframes_.end() && k->second->point_id[kp] == pt->first) k->second->point_id[kp] = -1;
+    if (pt->second->obs.empty()) points_.erase(pt);
+  }
+}
+
+}  // namespace iraf_vo

@@ -1,0 +1,177 @@
+#include <iraf_vo/tracking/local_mapper.h>
+
+#include <cmath>
+
+namespace iraf_vo {
+
+LocalMapper::LocalMapper(const CameraModel& camera, const TrackerParams& params, Map* map)
+    : cam_(camera), p_(params), map_(map), matcher_(camera, params) {
+  if (p_.mapping_thread) thread_ = std::thread([this] { run(); });
+}
+
+LocalMapper::~LocalMapper() {
+  {
+    std::lock_guard<std::mutex> lk(queue_mutex_);
+    stop_ = true;
+    abort_ba_ = true;
+  }
+  queue_cv_.notify_all();
+  idle_cv_.notify_all();
+  if (thread_.joinable()) thread_.join();
+}
+
+void LocalMapper::insertKeyframe(long kf_id) {
+  if (!p_.mapping_thread) {
+    processKeyframe(kf_id, true);
+    return;
+  }
+  {
+    std::unique_lock<std::mutex> lk(queue_mutex_);
+    // Back-pressure: under CPU overload the mapping thread falls behind and the tracker would run on an
+    // unoptimized map (monocular scale drifts); wait until fewer than max_pending_keyframes are queued.
+    if (p_.max_pending_keyframes > 0)
+      idle_cv_.wait(lk, [this] {
+        return stop_ || static_cast<int>(queue_.size()) + (busy_ ? 1 : 0) < p_.max_pending_keyframes;
+      });
+    queue_.push_back(kf_id);
+    if (p_.ba_abort_on_keyframe) abort_ba_ = true;
+  }
+  queue_cv_.notify_one();
+}
+
+bool LocalMapper::idle() const {
+  std::lock_guard<std::mutex> lk(queue_mutex_);
+  return queue_.empty() && !busy_;
+}
+
+void LocalMapper::waitUntilIdle() {
+  if (!p_.mapping_thread) return;
+  std::unique_lock<std::mutex> lk(queue_mutex_);
+  idle_cv_.wait(lk, [this] { return stop_ || (queue_.empty() && !busy_); });
+}
+
+void LocalMapper::clearQueue() {
+  {
+    std::lock_guard<std::mutex> lk(queue_mutex_);
+    queue_.clear();
+    abort_ba_ = true;
+  }
+  waitUntilIdle();
+}
+
+LocalMapperStats LocalMapper::stats() const {
+  std::lock_guard<std::mutex> lk(stats_mutex_);
+  return stats_;
+}
+
+void LocalMapper::run() {
+  for (;;) {
+    long id;
+    bool last_in_queue;
+    {
+      std::unique_lock<std::mutex> lk(queue_mutex_);
+      queue_cv_.wait(lk, [this] { return stop_ || !queue_.empty(); });
+      if (stop_) return;
+      id = queue_.front();
+      queue_.pop_front();
+      busy_ = true;
+      abort_ba_ = false;
+      last_in_queue = queue_.empty();
+    }
+    idle_cv_.notify_all();  // a queue slot is free (back-pressure in insertKeyframe)
+    // BA when no keyframe waits, and at least every ba_every_keyframes keyframes even when they keep
+    // arriving (otherwise BA starves under load and the monocular scale drifts).
+    ++keyframes_since_ba_;
+    const bool run_ba = last_in_queue || keyframes_since_ba_ >= p_.ba_every_keyframes;
+    if (run_ba) keyframes_since_ba_ = 0;
+    processKeyframe(id, run_ba);
+    {
+      std::lock_guard<std::mutex> lk(queue_mutex_);
+      busy_ = false;
+    }
+    idle_cv_.notify_all();
+  }
+}
+
+void LocalMapper::processKeyframe(long kf_id, bool run_ba) {
+  map_->cullRecentPoints(kf_id, p_.min_found_ratio);
+  map_->updateDescriptors(kf_id);
+  createNewMapPoints(kf_id);
+  if (run_ba && !(p_.mapping_thread && p_.ba_abort_on_keyframe && abort_ba_.load())) localBundleAdjustment();
+  map_->dropOldKeyframes(p_.max_map_keyframes);
+}
+
+void LocalMapper::createNewMapPoints(long kf_id) {
+  TriangulationInput in;
+  if (!map_->claimForTriangulation(kf_id, p_.num_triangulation_neighbors, &in)) return;
+  const Keyframe& kf = *in.keyframe;
+  const Eigen::Isometry3d& T1 = in.T_c_w;
+  const Eigen::Vector3d c1 = T1.inverse().translation();
+  std::vector<NewMapPoint> created;
+  std::vector<char> used1(kf.keypoints.size(), 0);
+  for (size_t i = 0; i < in.point_id.size(); ++i) used1[i] = in.point_id[i] >= 0 || !kf.valid[i];
+  const double cos_min_parallax = std::cos(p_.min_triangulation_parallax_deg * M_PI / 180.0);
+  for (TriangulationNeighbor& nb : in.neighbors) {
+    const Eigen::Vector3d c2 = nb.T_c_w.inverse().translation();
+    if ((c2 - c1).norm() / in.median_depth < 0.01) continue;  // baseline too small
+    const Keyframe& kf2 = *nb.keyframe;
+    const std::vector<int> match_of_2 = matcher_.searchForTriangulation(kf, used1, kf2, nb.point_id, nb.T_c_w * T1.inverse());
+    for (size_t j = 0; j < match_of_2.size(); ++j) {
+      const int i = match_of_2[j];
+      if (i < 0 || used1[i]) continue;
+      Eigen::Vector3d X;
+      if (!triangulateBearings(T1, kf.bearings[i], nb.T_c_w, kf2.bearings[j], &X)) continue;
+      const Eigen::Vector3d r1 = (X - c1).normalized(), r2 = (X - c2).normalized();
+      if (r1.dot(r2) > cos_min_parallax) continue;
+      const cv::KeyPoint& kp1 = kf.keypoints[i];
+      const cv::KeyPoint& kp2 = kf2.keypoints[j];
+      const double s1 = kf.sigma(kp1.octave), s2 = kf2.sigma(kp2.octave);
+      const double e1 = reprojectionError2(cam_, T1, X, Eigen::Vector2d(kp1.pt.x, kp1.pt.y));
+      const double e2 = reprojectionError2(cam_, nb.T_c_w, X, Eigen::Vector2d(kp2.pt.x, kp2.pt.y));
+      if (e1 < 0 || e2 < 0 || e1 > kChi2TwoDof * s1 * s1 || e2 > kChi2TwoDof * s2 * s2) continue;
+      used1[i] = 1;
+      nb.point_id[j] = -2;  // taken
+      created.push_back({X, kf_id, i, kf2.id, static_cast<int>(j)});
+    }
+  }
+  map_->addTriangulatedPoints(created);
+}
+
+void LocalMapper::localBundleAdjustment() {
+  LocalBAProblem prob = map_->localBAProblem(p_.ba_window_size, p_.ba_min_fixed_span);
+  if (prob.observations.empty()) return;
+  BAOptions options;
+  options.max_num_iterations = p_.ba_max_num_iterations;
+  options.max_solver_time_in_seconds = p_.ba_max_solver_time_in_seconds;
+  options.huber_delta = p_.ba_huber_delta;
+  options.abort = p_.mapping_thread ? &abort_ba_ : nullptr;
+  BASummary summary;
+  const double before = windowExtent(prob);
+  const bool ok = bundleAdjust(cam_, &prob.keyframes, &prob.points, prob.observations, options, &summary);
+  {
+    std::lock_guard<std::mutex> lk(stats_mutex_);
+    stats_.ba_runs++;
+    stats_.ba_ms_total += summary.ms;
+    stats_.ba_final_rmse_px = summary.final_rmse_px;
+  }
+  if (!ok) return;
+  map_->applyLocalBA(prob, summary);
+  recordScaleChange(before, prob);
+}
+
+void LocalMapper::recordScaleChange(double extent_before, const LocalBAProblem& after) {
+  const double extent_after = windowExtent(after);
+  if (!(extent_before > 1e-12) || !(extent_after > 0)) return;
+  const double change = extent_after / extent_before;
+  std::lock_guard<std::mutex> lk(scale_mutex_);
+  if (std::max(change, 1.0 / change) > std::max(scale_change_, 1.0 / scale_change_)) scale_change_ = change;
+}
+
+double LocalMapper::takeScaleChange() {
+  std::lock_guard<std::mutex> lk(scale_mutex_);
+  const double c = scale_change_;
+  scale_change_ = 1.0;
+  return c;
+}
+
+}  // namespace iraf_vo

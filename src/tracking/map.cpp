@@ -1,0 +1,292 @@
+#include <iraf_vo/tracking/map.h>
+
+#include <algorithm>
+#include <cstring>
+
+namespace iraf_vo {
+
+std::shared_ptr<Keyframe> Keyframe::fromFrame(const Frame& f, const Eigen::Isometry3d& T_c_w) {
+  auto kf = std::make_shared<Keyframe>();
+  kf->frame_index = f.index;
+  kf->stamp = f.stamp;
+  kf->scale_factor = f.scale_factor;
+  kf->T_c_w = T_c_w;
+  kf->keypoints = f.keypoints;
+  kf->descriptors = f.descriptors;
+  kf->bearings = f.bearings;
+  kf->valid = f.valid;
+  kf->point_id.assign(f.keypoints.size(), -1);
+  return kf;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Creation
+// ---------------------------------------------------------------------------------------------
+long Map::createPointLocked(const Eigen::Vector3d& p_w, Keyframe& a, int kp_a, Keyframe& b, int kp_b) {
+  auto mp = std::make_shared<MapPoint>();
+  mp->id = next_point_id_++;
+  mp->p_w = p_w;
+  mp->desc = descriptorRow(a.descriptors, kp_a);
+  mp->octave = a.keypoints[kp_a].octave;
+  mp->angle = a.keypoints[kp_a].angle;
+  mp->obs[a.id] = kp_a;
+  mp->obs[b.id] = kp_b;
+  mp->first_kf = a.id;
+  a.point_id[kp_a] = mp->id;
+  b.point_id[kp_b] = mp->id;
+  points_[mp->id] = mp;
+  return mp->id;
+}
+
+bool Map::createInitialMap(const KeyframePtr& kf0, const KeyframePtr& kf1, const std::vector<NewMapPoint>& points,
+                           int min_points, int* created) {
+  std::lock_guard<std::mutex> lk(mutex_);
+  kf0->id = next_keyframe_id_++;
+  kf1->id = next_keyframe_id_++;
+  std::vector<long> ids;
+  for (const NewMapPoint& np : points) ids.push_back(createPointLocked(np.p_w, *kf1, np.kp_a, *kf0, np.kp_b));
+  *created = static_cast<int>(ids.size());
+  if (*created < min_points) {
+    for (long id : ids) points_.erase(id);  // roll back: the keyframes were never added
+    return false;
+  }
+  keyframes_[kf0->id] = kf0;
+  keyframes_[kf1->id] = kf1;
+  return true;
+}
+
+long Map::addKeyframe(const Frame& f) {
+  auto kf = Keyframe::fromFrame(f, f.T_c_w);
+  std::lock_guard<std::mutex> lk(mutex_);
+  kf->id = next_keyframe_id_++;
+  for (size_t i = 0; i < f.point_id.size(); ++i) {
+    if (f.point_id[i] < 0) continue;
+    auto it = points_.find(f.point_id[i]);
+    if (it == points_.end() || it->second->obs.count(kf->id)) continue;
+    it->second->obs[kf->id] = static_cast<int>(i);
+    kf->point_id[i] = f.point_id[i];
+  }
+  keyframes_[kf->id] = kf;
+  return kf->id;
+}
+
+void Map::clear() {
+  std::lock_guard<std::mutex> lk(mutex_);
+  keyframes_.clear();
+  points_.clear();
+  recent_points_.clear();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Tracking thread
+// ---------------------------------------------------------------------------------------------
+std::vector<LocalPoint> Map::localPoints() const {
+  std::lock_guard<std::mutex> lk(mutex_);
+  std::vector<LocalPoint> out;
+  out.reserve(points_.size());
+  for (const auto& kv : points_) {
+    const MapPoint& mp = *kv.second;
+    out.push_back({mp.id, mp.p_w, mp.desc, mp.octave, mp.angle});
+  }
+  return out;
+}
+
+bool Map::keyframePose(long id, Eigen::Isometry3d* T_c_w) const {
+  std::lock_guard<std::mutex> lk(mutex_);
+  auto it = keyframes_.find(id);
+  if (it == keyframes_.end()) return false;
+  *T_c_w = it->second->T_c_w;
+  return true;
+}
+
+void Map::countVisibility(const std::vector<LocalPoint>& local, const std::vector<char>& visible,
+                          const std::vector<int>& keypoint_of_point) {
+  std::lock_guard<std::mutex> lk(mutex_);
+  for (size_t li = 0; li < local.size(); ++li) {
+    if (!visible[li] && keypoint_of_point[li] < 0) continue;
+    auto it = points_.find(local[li].id);
+    if (it == points_.end()) continue;
+    it->second->visible++;
+    if (keypoint_of_point[li] >= 0) it->second->found++;
+  }
+}
+
+int Map::trackedPoints(long kf_id, size_t min_observations) const {
+  std::lock_guard<std::mutex> lk(mutex_);
+  int n = 0;
+  auto it = keyframes_.find(kf_id);
+  if (it == keyframes_.end()) return 0;
+  for (long pid : it->second->point_id) {
+    if (pid < 0) continue;
+    auto pt = points_.find(pid);
+    if (pt != points_.end() && pt->second->obs.size() >= min_observations) ++n;
+  }
+  return n;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Local mapping
+// ---------------------------------------------------------------------------------------------
+void Map::erasePointLocked(long id) {
+  auto it = points_.find(id);
+  if (it == points_.end()) return;
+  for (const auto& o : it->second->obs) {
+    auto k = keyframes_.find(o.first);
+    if (k != keyframes_.end() && o.second < static_cast<int>(k->second->point_id.size()) &&
+        k->second->point_id[o.second] == id)
+      k->second->point_id[o.second] = -1;
+  }
+  points_.erase(it);
+}
+
+void Map::cullRecentPoints(long current_kf, double min_found_ratio) {
+  std::lock_guard<std::mutex> lk(mutex_);
+  std::vector<long> keep;
+  for (long pid : recent_points_) {
+    auto it = points_.find(pid);
+    if (it == points_.end()) continue;
+    const MapPoint& mp = *it->second;
+    const long age = current_kf - mp.first_kf;
+    if (static_cast<double>(mp.found) / std::max(1, mp.visible) < min_found_ratio) {
+      erasePointLocked(pid);
+    } else if (age >= 2 && mp.obs.size() <= 2) {
+      erasePointLocked(pid);
+    } else if (age < 3) {
+      keep.push_back(pid);
+    }
+  }
+  recent_points_.swap(keep);
+}
+
+void Map::updateDescriptors(long kf_id) {
+  std::lock_guard<std::mutex> lk(mutex_);
+  auto k = keyframes_.find(kf_id);
+  if (k == keyframes_.end()) return;
+  std::vector<const uint8_t*> d;
+  std::vector<int> dist, row;
+  for (long pid : k->second->point_id) {
+    if (pid < 0) continue;
+    auto pt = points_.find(pid);
+    if (pt == points_.end() || pt->second->obs.size() < 3) continue;
+    d.clear();
+    for (const auto& o : pt->second->obs) {
+      auto ko = keyframes_.find(o.first);
+      if (ko != keyframes_.end()) d.push_back(ko->second->descriptors.ptr<uint8_t>(o.second));
+    }
+    const size_t n = d.size();
+    if (n < 3) continue;
+    // The observation with the least median distance to the others.
+    dist.assign(n * n, 0);
+    for (size_t i = 0; i < n; ++i)
+      for (size_t j = i + 1; j < n; ++j) dist[i * n + j] = dist[j * n + i] = hammingDistance(d[i], d[j]);
+    int best = 1 << 30;
+    size_t best_i = 0;
+    row.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+      std::copy(dist.begin() + i * n, dist.begin() + (i + 1) * n, row.begin());
+      std::nth_element(row.begin(), row.begin() + n / 2, row.end());
+      if (row[n / 2] < best) {
+        best = row[n / 2];
+        best_i = i;
+      }
+    }
+    std::memcpy(pt->second->desc.data(), d[best_i], 32);
+  }
+}
+
+bool Map::claimForTriangulation(long kf_id, int num_neighbors, TriangulationInput* in) {
+  std::lock_guard<std::mutex> lk(mutex_);
+  auto it = keyframes_.find(kf_id);
+  if (it == keyframes_.end()) return false;
+  in->keyframe = it->second;
+  if (in->keyframe->triangulated.exchange(true)) return false;  // done already (tracker or mapping thread)
+  in->point_id = in->keyframe->point_id;
+  in->T_c_w = in->keyframe->T_c_w;
+  std::map<long, int> covisibility;
+  std::vector<double> depths;
+  for (long pid : in->point_id) {
+    if (pid < 0) continue;
+    auto pt = points_.find(pid);
+    if (pt == points_.end()) continue;
+    depths.push_back((in->T_c_w * pt->second->p_w).z());
+    for (const auto& o : pt->second->obs)
+      if (o.first != kf_id) covisibility[o.first]++;
+  }
+  in->median_depth = 1.0;
+  if (!depths.empty()) {
+    std::nth_element(depths.begin(), depths.begin() + depths.size() / 2, depths.end());
+    in->median_depth = depths[depths.size() / 2];
+  }
+  std::vector<std::pair<int, long>> order;
+  for (const auto& c : covisibility) order.emplace_back(c.second, c.first);
+  std::sort(order.rbegin(), order.rend());
+  // Fill with the most recent keyframes when covisibility is thin.
+  for (auto k = keyframes_.rbegin(); k != keyframes_.rend(); ++k)
+    if (k->first != kf_id && !covisibility.count(k->first)) order.emplace_back(0, k->first);
+  in->neighbors.clear();
+  for (const auto& o : order) {
+    if (static_cast<int>(in->neighbors.size()) >= num_neighbors) break;
+    auto k = keyframes_.find(o.second);
+    if (k == keyframes_.end()) continue;
+    in->neighbors.push_back({k->second, k->second->T_c_w, k->second->point_id});
+  }
+  return true;
+}
+
+void Map::addTriangulatedPoints(const std::vector<NewMapPoint>& points) {
+  std::lock_guard<std::mutex> lk(mutex_);
+  for (const NewMapPoint& np : points) {
+    auto ka = keyframes_.find(np.kf_a);
+    auto kb = keyframes_.find(np.kf_b);
+    if (ka == keyframes_.end() || kb == keyframes_.end()) continue;
+    if (ka->second->point_id[np.kp_a] >= 0 || kb->second->point_id[np.kp_b] >= 0) continue;
+    recent_points_.push_back(createPointLocked(np.p_w, *ka->second, np.kp_a, *kb->second, np.kp_b));
+  }
+}
+
+void Map::dropOldKeyframes(int max_keyframes) {
+  std::lock_guard<std::mutex> lk(mutex_);
+  while (static_cast<int>(keyframes_.size()) > max_keyframes) {
+    auto it = keyframes_.begin();
+    const Keyframe& kf = *it->second;
+    for (size_t i = 0; i < kf.point_id.size(); ++i) {
+      const long pid = kf.point_id[i];
+      if (pid < 0) continue;
+      auto pt = points_.find(pid);
+      if (pt == points_.end()) continue;
+      pt->second->obs.erase(kf.id);
+      if (pt->second->obs.empty()) points_.erase(pt);
+    }
+    keyframes_.erase(it);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Queries
+// ---------------------------------------------------------------------------------------------
+std::vector<Eigen::Vector3d> Map::pointPositions() const {
+  std::lock_guard<std::mutex> lk(mutex_);
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(points_.size());
+  for (const auto& kv : points_) out.push_back(kv.second->p_w);
+  return out;
+}
+
+std::vector<KeyframePose> Map::keyframePoses() const {
+  std::lock_guard<std::mutex> lk(mutex_);
+  std::vector<KeyframePose> out;
+  for (const auto& kv : keyframes_) out.push_back({kv.first, kv.second->stamp, kv.second->T_c_w.inverse()});
+  return out;
+}
+
+size_t Map::numKeyframes() const {
+  std::lock_guard<std::mutex> lk(mutex_);
+  return keyframes_.size();
+}
+
+size_t Map::numPoints() const {
+  std::lock_guard<std::mutex> lk(mutex_);
+  return points_.size();
+}
+
+}  // namespace iraf_vo

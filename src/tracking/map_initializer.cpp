@@ -1,0 +1,103 @@
+#include <iraf_vo/tracking/map_initializer.h>
+
+#include <algorithm>
+
+namespace iraf_vo {
+
+void MapInitializer::setReference(const Frame& f) {
+  have_reference_ = static_cast<int>(f.size()) >= p_.init_min_features;
+  if (have_reference_) reference_ = f;
+}
+
+std::vector<std::pair<int, int>> MapInitializer::matchToReference(const Frame& cur) const {
+  std::vector<float> reference_angles(reference_.size());
+  for (size_t i = 0; i < reference_.size(); ++i) reference_angles[i] = reference_.keypoints[i].angle;
+  const auto matches = matcher_.matchBruteForce(cur.descriptors, cur.keypoints, cur.valid, reference_.descriptors,
+                                                reference_angles, p_.match_threshold_high, p_.init_match_ratio);
+  std::vector<std::pair<int, int>> valid;  // (cur, reference)
+  for (const auto& m : matches)
+    if (reference_.valid[m.second]) valid.push_back(m);
+  return valid;
+}
+
+bool MapInitializer::initialize(Frame& cur, const MapAnchor& anchor, Map* map, KeyframePtr* kf0_out,
+                                KeyframePtr* kf1_out, int* num_points) {
+  if (!have_reference_ || cur.index - reference_.index > p_.init_max_frames) {
+    setReference(cur);
+    return false;
+  }
+  const std::vector<std::pair<int, int>> matches = matchToReference(cur);
+  if (static_cast<int>(matches.size()) < p_.init_min_matches) {
+    setReference(cur);
+    return false;
+  }
+  std::vector<Eigen::Vector3d> b_ref, b_cur;
+  for (const auto& m : matches) {
+    b_ref.push_back(reference_.bearings[m.second]);
+    b_cur.push_back(cur.bearings[m.first]);
+  }
+  TwoViewParams two_view_params;
+  two_view_params.threshold_px = p_.init_threshold_px;
+  two_view_params.min_parallax_deg = p_.init_min_parallax_deg;
+  two_view_params.min_triangulated = p_.init_min_triangulated;
+  two_view_params.homography_ratio = p_.init_homography_ratio;
+  const TwoViewResult two_view = initializeTwoView(b_ref, b_cur, cam_.focal(), two_view_params);
+  if (!two_view.ok) return false;
+
+  // Scale: median depth of the triangulated points in the reference frame = anchor depth.
+  std::vector<double> depths;
+  for (size_t k = 0; k < matches.size(); ++k)
+    if (two_view.triangulated[k]) depths.push_back(two_view.points[k].z());
+  std::nth_element(depths.begin(), depths.begin() + depths.size() / 2, depths.end());
+  const double median = depths[depths.size() / 2];
+  if (!(median > 0)) return false;
+  const double s = anchor.median_depth / median;
+  Eigen::Isometry3d T_cur_ref = Eigen::Isometry3d::Identity();
+  T_cur_ref.linear() = two_view.R_21;
+  T_cur_ref.translation() = s * two_view.t_21;
+  const Eigen::Isometry3d T_ref_c_w = anchor.T_w_ref.inverse();
+  const Eigen::Isometry3d T_cur_c_w = T_cur_ref * T_ref_c_w;
+  KeyframePtr kf0 = Keyframe::fromFrame(reference_, T_ref_c_w);
+  KeyframePtr kf1 = Keyframe::fromFrame(cur, T_cur_c_w);
+
+  // Two-keyframe BA (first keyframe fixed) before the map goes live.
+  std::vector<BAKeyframe> ba_keyframes(2);
+  ba_keyframes[0].T_c_w = T_ref_c_w;
+  ba_keyframes[0].fixed = true;
+  ba_keyframes[1].T_c_w = T_cur_c_w;
+  std::vector<BAPoint> ba_points;
+  std::vector<BAObservation> ba_observations;
+  std::vector<std::pair<int, int>> point_match;
+  for (size_t k = 0; k < matches.size(); ++k) {
+    if (!two_view.triangulated[k]) continue;
+    const int pi = static_cast<int>(ba_points.size());
+    ba_points.push_back({anchor.T_w_ref * (s * two_view.points[k])});
+    const cv::KeyPoint& k0 = reference_.keypoints[matches[k].second];
+    const cv::KeyPoint& k1 = cur.keypoints[matches[k].first];
+    ba_observations.push_back({0, pi, Eigen::Vector2d(k0.pt.x, k0.pt.y), reference_.sigma(k0.octave)});
+    ba_observations.push_back({1, pi, Eigen::Vector2d(k1.pt.x, k1.pt.y), cur.sigma(k1.octave)});
+    point_match.push_back(matches[k]);
+  }
+  BAOptions options;
+  options.max_num_iterations = 20;
+  options.max_solver_time_in_seconds = 0.5;
+  options.huber_delta = p_.ba_huber_delta;
+  BASummary summary;
+  bundleAdjust(cam_, &ba_keyframes, &ba_points, ba_observations, options, &summary);
+  kf1->T_c_w = ba_keyframes[1].T_c_w;
+
+  std::vector<NewMapPoint> points;
+  for (size_t i = 0; i < ba_points.size(); ++i) {
+    if (summary.outlier.size() == ba_observations.size() && (summary.outlier[2 * i] || summary.outlier[2 * i + 1]))
+      continue;
+    points.push_back({ba_points[i].p_w, 0, point_match[i].first, 0, point_match[i].second});
+  }
+  if (!map->createInitialMap(kf0, kf1, points, p_.init_min_triangulated, num_points)) return false;
+  cur.T_c_w = kf1->T_c_w;
+  cur.point_id = kf1->point_id;
+  *kf0_out = kf0;
+  *kf1_out = kf1;
+  return true;
+}
+
+}  // namespace iraf_vo

@@ -1,0 +1,177 @@
+#include <iraf_vo/tracking/matcher.h>
+
+#include <opencv2/features2d.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace iraf_vo {
+
+// ---------------------------------------------------------------------------------------------
+// MatchSet
+// ---------------------------------------------------------------------------------------------
+void MatchSet::link(int keypoint, int point) {
+  if (point_of_[keypoint] >= 0) keypoint_of_[point_of_[keypoint]] = -1;
+  point_of_[keypoint] = point;
+  keypoint_of_[point] = keypoint;
+}
+
+void MatchSet::unlinkKeypoint(int keypoint) {
+  if (point_of_[keypoint] < 0) return;
+  keypoint_of_[point_of_[keypoint]] = -1;
+  point_of_[keypoint] = -1;
+}
+
+void MatchSet::clear() {
+  std::fill(point_of_.begin(), point_of_.end(), -1);
+  std::fill(keypoint_of_.begin(), keypoint_of_.end(), -1);
+}
+
+int MatchSet::size() const {
+  return static_cast<int>(std::count_if(point_of_.begin(), point_of_.end(), [](int x) { return x >= 0; }));
+}
+
+// ---------------------------------------------------------------------------------------------
+std::vector<char> rotationConsistent(const std::vector<float>& angle_differences) {
+  constexpr int kBins = 30;
+  std::array<std::vector<int>, kBins> hist;
+  std::vector<char> keep(angle_differences.size(), 1);
+  for (size_t i = 0; i < angle_differences.size(); ++i) {
+    if (angle_differences[i] < -1000.f) continue;
+    float a = std::fmod(angle_differences[i], 360.f);
+    if (a < 0) a += 360.f;
+    const int b = static_cast<int>(std::lround(a * kBins / 360.f)) % kBins;
+    hist[b].push_back(static_cast<int>(i));
+  }
+  std::array<int, kBins> order;
+  for (int b = 0; b < kBins; ++b) order[b] = b;
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return hist[a].size() > hist[b].size(); });
+  const size_t max1 = hist[order[0]].size();
+  std::array<char, kBins> good{};
+  good[order[0]] = 1;
+  if (hist[order[1]].size() >= 0.1 * max1) good[order[1]] = 1;
+  if (hist[order[2]].size() >= 0.1 * max1) good[order[2]] = 1;
+  for (int b = 0; b < kBins; ++b)
+    if (!good[b])
+      for (int i : hist[b]) keep[i] = 0;
+  return keep;
+}
+
+// ---------------------------------------------------------------------------------------------
+int Matcher::searchByProjection(const Frame& f, const Eigen::Isometry3d& T_c_w, const std::vector<LocalPoint>& local,
+                                double radius, int octave_margin, MatchSet* matches, std::vector<char>* visible) const {
+  const double w = cam_.width(), h = cam_.height();
+  std::vector<int> best_dist_of_kp(f.size(), 256);
+  for (size_t i = 0; i < f.size(); ++i)
+    if (matches->pointOf(static_cast<int>(i)) >= 0) best_dist_of_kp[i] = -1;  // matched in an earlier pass: keep
+  std::vector<int> candidates;
+  int added = 0;
+  for (size_t li = 0; li < local.size(); ++li) {
+    if (matches->keypointOf(static_cast<int>(li)) >= 0) continue;
+    const LocalPoint& lp = local[li];
+    const Eigen::Vector3d p_c = T_c_w * lp.p_w;
+    if (p_c.z() <= 1e-6) continue;
+    Eigen::Vector2d uv;
+    if (!cam_.project(p_c, &uv)) continue;
+    if (uv.x() < 0 || uv.y() < 0 || uv.x() >= w || uv.y() >= h) continue;
+    if (visible) (*visible)[li] = 1;
+    const double r = radius * f.sigma(lp.octave);
+    f.featuresInArea(uv.x(), uv.y(), r, lp.octave - octave_margin, lp.octave + octave_margin, &candidates);
+    int best = 256, second = 256, best_idx = -1, best_octave = -1, second_octave = -1;
+    for (int j : candidates) {
+      if (best_dist_of_kp[j] < 0) continue;
+      const int d = hammingDistance(lp.desc.data(), f.descriptors.ptr<uint8_t>(j));
+      if (d < best) {
+        second = best;
+        second_octave = best_octave;
+        best = d;
+        best_idx = j;
+        best_octave = f.keypoints[j].octave;
+      } else if (d < second) {
+        second = d;
+        second_octave = f.keypoints[j].octave;
+      }
+    }
+    if (best_idx < 0 || best > p_.match_threshold_high) continue;
+    if (best_octave == second_octave && best > p_.match_ratio * second) continue;
+    if (best_dist_of_kp[best_idx] < 0 || best >= best_dist_of_kp[best_idx]) continue;
+    if (matches->pointOf(best_idx) >= 0) --added;  // replaced by a better point
+    best_dist_of_kp[best_idx] = best;
+    matches->link(best_idx, static_cast<int>(li));
+    ++added;
+  }
+  return added;
+}
+
+std::vector<std::pair<int, int>> Matcher::matchBruteForce(const cv::Mat& query, const std::vector<cv::KeyPoint>& query_kps,
+                                                          const std::vector<char>& query_valid, const cv::Mat& train,
+                                                          const std::vector<float>& train_angles, int threshold,
+                                                          double ratio) const {
+  std::vector<std::pair<int, int>> out;
+  if (query.empty() || train.rows < 2) return out;
+  cv::BFMatcher matcher(cv::NORM_HAMMING);
+  std::vector<std::vector<cv::DMatch>> knn;
+  matcher.knnMatch(query, train, knn, 2);
+  std::vector<int> best_query_of_train(train.rows, -1);
+  std::vector<float> best_dist(train.rows, 1e9f);
+  for (const auto& m : knn) {
+    if (m.empty()) continue;
+    const cv::DMatch& b = m[0];
+    if (!query_valid[b.queryIdx] || b.distance > threshold) continue;
+    if (m.size() > 1 && b.distance > ratio * m[1].distance) continue;
+    if (b.distance < best_dist[b.trainIdx]) {
+      best_dist[b.trainIdx] = b.distance;
+      best_query_of_train[b.trainIdx] = b.queryIdx;
+    }
+  }
+  std::vector<float> angle_differences;
+  for (int t = 0; t < train.rows; ++t) {
+    if (best_query_of_train[t] < 0) continue;
+    out.emplace_back(best_query_of_train[t], t);
+    const float a1 = query_kps[best_query_of_train[t]].angle, a2 = train_angles[t];
+    angle_differences.push_back(a1 >= 0 && a2 >= 0 ? a1 - a2 : -1e9f);
+  }
+  if (p_.check_orientation && !out.empty()) {
+    const auto keep = rotationConsistent(angle_differences);
+    std::vector<std::pair<int, int>> kept;
+    for (size_t i = 0; i < out.size(); ++i)
+      if (keep[i]) kept.push_back(out[i]);
+    out.swap(kept);
+  }
+  return out;
+}
+
+std::vector<int> Matcher::searchForTriangulation(const Keyframe& kf1, const std::vector<char>& used1, const Keyframe& kf2,
+                                                 const std::vector<long>& point_id2, const Eigen::Isometry3d& T_21) const {
+  const double f = cam_.focal();
+  const Eigen::Matrix3d R21 = T_21.rotation();
+  const Eigen::Vector3d t21 = T_21.translation();
+  std::vector<int> candidates2;
+  for (size_t j = 0; j < kf2.keypoints.size(); ++j)
+    if (point_id2[j] < 0 && kf2.valid[j]) candidates2.push_back(static_cast<int>(j));
+  std::vector<int> match_of_2(kf2.keypoints.size(), -1), dist_of_2(kf2.keypoints.size(), 256);
+  for (size_t i = 0; i < kf1.keypoints.size(); ++i) {
+    if (used1[i]) continue;
+    Eigen::Vector3d n = t21.cross(R21 * kf1.bearings[i]);  // epipolar plane normal in frame 2
+    const double nn = n.norm();
+    if (nn < 1e-12) continue;
+    n /= nn;
+    const uint8_t* d1 = kf1.descriptors.ptr<uint8_t>(static_cast<int>(i));
+    int best = p_.match_threshold_low + 1, best_j = -1;
+    for (int j : candidates2) {
+      const int d = hammingDistance(d1, kf2.descriptors.ptr<uint8_t>(j));
+      if (d >= best) continue;
+      // |n . b2| = sin(angle to the epipolar plane); gate at 2 sigma (chi2 1 dof 3.84) in pixels
+      if (std::abs(n.dot(kf2.bearings[j])) * f > 1.96 * kf2.sigma(kf2.keypoints[j].octave)) continue;
+      best = d;
+      best_j = j;
+    }
+    if (best_j < 0 || best >= dist_of_2[best_j]) continue;
+    dist_of_2[best_j] = best;
+    match_of_2[best_j] = static_cast<int>(i);
+  }
+  return match_of_2;
+}
+
+}  // namespace iraf_vo

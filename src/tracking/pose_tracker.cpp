@@ -1,0 +1,154 @@
+#include <iraf_vo/tracking/pose_tracker.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+
+namespace iraf_vo {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+}  // namespace
+
+PoseTrackingResult PoseTracker::trackLocalMap(Frame& cur, const Eigen::Isometry3d& T_predicted, Map* map) const {
+  PoseTrackingResult res;
+  auto t0 = Clock::now();
+  const std::vector<LocalPoint> local = map->localPoints();
+  MatchSet matches(cur.size(), local.size());
+  std::vector<char> visible(local.size(), 0);
+  Eigen::Isometry3d T = T_predicted;
+  int n = matcher_.searchByProjection(cur, T, local, p_.search_radius_px, 1, &matches, nullptr);
+  if (n < p_.min_search_matches) {
+    matches.clear();
+    n = matcher_.searchByProjection(cur, T, local, p_.search_radius_wide_px, 2, &matches, nullptr);
+  }
+  res.ms_match += msSince(t0);
+  int inliers = 0;
+  if (n >= p_.min_search_matches) {
+    t0 = Clock::now();
+    inliers = refinePose(cur, local, &matches, &T);
+    res.ms_pose += msSince(t0);
+  }
+  if (inliers < p_.min_tracking_inliers) {
+    t0 = Clock::now();
+    inliers = relocalize(cur, local, &matches, &T);
+    res.used_pnp = inliers > 0;
+    res.ms_match += msSince(t0);
+    if (inliers >= p_.min_tracking_inliers) {
+      t0 = Clock::now();
+      inliers = refinePose(cur, local, &matches, &T);
+      res.ms_pose += msSince(t0);
+    }
+  }
+  res.matches = n;
+  res.inliers = inliers;
+  if (inliers < p_.min_tracking_inliers) return res;
+  // Second, narrow pass with the refined pose.
+  t0 = Clock::now();
+  matcher_.searchByProjection(cur, T, local, p_.search_radius_refine_px, 1, &matches, &visible);
+  res.ms_match += msSince(t0);
+  t0 = Clock::now();
+  res.refine_matches = matches.size();
+  res.inliers = refinePose(cur, local, &matches, &T);
+  res.ms_pose += msSince(t0);
+  if (res.inliers < p_.min_tracking_inliers) return res;
+  describeInliers(cur, local, matches, T, &res);
+
+  res.tracked = true;
+  cur.T_c_w = T;
+  map->countVisibility(local, visible, matches.keypointOfPoint());
+  std::vector<double> depths;
+  for (size_t i = 0; i < cur.size(); ++i) {
+    const int li = matches.pointOf(static_cast<int>(i));
+    if (li < 0) continue;
+    cur.point_id[i] = local[li].id;
+    depths.push_back((T * local[li].p_w).z());
+  }
+  if (!depths.empty()) {
+    std::nth_element(depths.begin(), depths.begin() + depths.size() / 2, depths.end());
+    res.median_depth = depths[depths.size() / 2];
+    res.has_median_depth = true;
+  }
+  return res;
+}
+
+void PoseTracker::describeInliers(const Frame& f, const std::vector<LocalPoint>& local, const MatchSet& matches,
+                                  const Eigen::Isometry3d& T, PoseTrackingResult* res) const {
+  std::vector<Eigen::Vector3d> P;
+  std::vector<Eigen::Vector2d> uv;
+  std::vector<double> sigma, chi2;
+  for (size_t i = 0; i < f.size(); ++i) {
+    const int li = matches.pointOf(static_cast<int>(i));
+    if (li < 0) continue;
+    P.push_back(local[li].p_w);
+    uv.emplace_back(f.keypoints[i].pt.x, f.keypoints[i].pt.y);
+    sigma.push_back(f.sigma(f.keypoints[i].octave));
+    const double e2 = reprojectionError2(cam_, T, P.back(), uv.back());
+    chi2.push_back(e2 < 0 ? 1e9 : e2 / (sigma.back() * sigma.back()));
+  }
+  if (!chi2.empty()) {
+    std::nth_element(chi2.begin(), chi2.begin() + chi2.size() / 2, chi2.end());
+    res->median_chi2 = chi2[chi2.size() / 2];
+  }
+  res->information = poseInformation(cam_, P, uv, sigma, T);
+}
+
+int PoseTracker::refinePose(const Frame& f, const std::vector<LocalPoint>& local, MatchSet* matches,
+                            Eigen::Isometry3d* T) const {
+  std::vector<Eigen::Vector3d> P;
+  std::vector<Eigen::Vector2d> uv;
+  std::vector<double> sigma;
+  std::vector<int> keypoint;
+  for (size_t i = 0; i < f.size(); ++i) {
+    const int li = matches->pointOf(static_cast<int>(i));
+    if (li < 0) continue;
+    P.push_back(local[li].p_w);
+    uv.emplace_back(f.keypoints[i].pt.x, f.keypoints[i].pt.y);
+    sigma.push_back(f.sigma(f.keypoints[i].octave));
+    keypoint.push_back(static_cast<int>(i));
+  }
+  if (P.size() < 4) return 0;
+  PoseOptimizationOptions options;
+  options.rounds = p_.pose_rounds;
+  options.max_num_iterations = p_.pose_max_iterations;
+  options.use_ceres = p_.pose_use_ceres;
+  std::vector<char> inlier(P.size(), 1);
+  Eigen::Isometry3d T_refined = *T;
+  const int n = optimizePose(cam_, P, uv, sigma, options, &T_refined, &inlier);
+  if (n < 4) return n;
+  *T = T_refined;
+  for (size_t k = 0; k < keypoint.size(); ++k)
+    if (!inlier[k]) matches->unlinkKeypoint(keypoint[k]);
+  return n;
+}
+
+int PoseTracker::relocalize(const Frame& f, const std::vector<LocalPoint>& local, MatchSet* matches,
+                            Eigen::Isometry3d* T) const {
+  if (local.size() < 10) return 0;
+  cv::Mat D(static_cast<int>(local.size()), 32, CV_8U);
+  std::vector<float> angles(local.size());
+  for (size_t i = 0; i < local.size(); ++i) {
+    std::memcpy(D.ptr<uint8_t>(static_cast<int>(i)), local[i].desc.data(), 32);
+    angles[i] = local[i].angle;
+  }
+  const auto m = matcher_.matchBruteForce(f.descriptors, f.keypoints, f.valid, D, angles, p_.match_threshold_high,
+                                          p_.match_ratio);
+  if (static_cast<int>(m.size()) < p_.min_tracking_inliers) return 0;
+  std::vector<Eigen::Vector3d> P, B;
+  for (const auto& x : m) {
+    P.push_back(local[x.second].p_w);
+    B.push_back(f.bearings[x.first]);
+  }
+  std::vector<char> inlier;
+  Eigen::Isometry3d T_pnp;
+  const int n = solvePnPBearings(P, B, cam_.focal(), p_.pnp_threshold_px, p_.pnp_iterations, &T_pnp, &inlier);
+  if (n < p_.min_tracking_inliers) return 0;
+  matches->clear();
+  for (size_t k = 0; k < m.size(); ++k)
+    if (inlier[k]) matches->link(m[k].first, m[k].second);
+  *T = T_pnp;
+  return n;
+}
+
+}  // namespace iraf_vo

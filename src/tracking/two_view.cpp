@@ -1,0 +1,322 @@
+// Two-view initialization (geometry.h): E and H by RANSAC, ORB-SLAM model selection and scores, decomposition
+// into (R, t) hypotheses checked by triangulation, and a two-view BA. ROS-free.
+#include <iraf_vo/tracking/geometry.h>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace iraf_vo {
+
+namespace {
+
+// Pinhole without distortion on normalized coordinates scaled by `focal` (principal point 0): lets the two-view
+// refinement reuse bundleAdjust() on bearings with pixel-like residuals.
+class NormalizedPinhole final : public CameraModel {
+ public:
+  explicit NormalizedPinhole(double f) : f_(f) {}
+  std::string modelName() const override { return "normalized"; }
+  bool project(const Eigen::Vector3d& p, Eigen::Vector2d* uv, Eigen::Matrix<double, 2, 3>* J) const override {
+    if (p.z() <= 1e-9) return false;
+    const double iz = 1.0 / p.z();
+    *uv = Eigen::Vector2d(f_ * p.x() * iz, f_ * p.y() * iz);
+    if (J) *J << f_ * iz, 0, -f_ * p.x() * iz * iz, 0, f_ * iz, -f_ * p.y() * iz * iz;
+    return true;
+  }
+  bool unproject(const Eigen::Vector2d& uv, Eigen::Vector3d* b) const override {
+    *b = Eigen::Vector3d(uv.x() / f_, uv.y() / f_, 1.0).normalized();
+    return true;
+  }
+  std::vector<double> parameters() const override { return {f_, f_, 0, 0}; }
+  double focal() const override { return f_; }
+
+ private:
+  double f_;
+};
+
+Eigen::Vector2d normalized(const Eigen::Vector3d& b) { return Eigen::Vector2d(b.x() / b.z(), b.y() / b.z()); }
+
+// ORB-SLAM style scores (pixel units through `focal`): sum over both directions of (gate - e^2/sigma^2).
+double scoreHomography(const Eigen::Matrix3d& H, const std::vector<Eigen::Vector2d>& p1,
+                       const std::vector<Eigen::Vector2d>& p2, double focal, double sigma, std::vector<char>* inl) {
+  const Eigen::Matrix3d Hinv = H.inverse();
+  const double th = 5.991, inv_s2 = 1.0 / (sigma * sigma), f2 = focal * focal;
+  double score = 0.0;
+  inl->assign(p1.size(), 0);
+  for (size_t i = 0; i < p1.size(); ++i) {
+    const Eigen::Vector3d a = H * p1[i].homogeneous(), b = Hinv * p2[i].homogeneous();
+    const double e21 = (a.hnormalized() - p2[i]).squaredNorm() * f2 * inv_s2;
+    const double e12 = (b.hnormalized() - p1[i]).squaredNorm() * f2 * inv_s2;
+    if (e21 > th || e12 > th) continue;
+    (*inl)[i] = 1;
+    score += (th - e21) + (th - e12);
+  }
+  return score;
+}
+
+double scoreEssential(const Eigen::Matrix3d& E, const std::vector<Eigen::Vector2d>& p1,
+                      const std::vector<Eigen::Vector2d>& p2, double focal, double sigma, std::vector<char>* inl) {
+  const double th = 3.841, th_score = 5.991, inv_s2 = 1.0 / (sigma * sigma), f2 = focal * focal;
+  double score = 0.0;
+  inl->assign(p1.size(), 0);
+  for (size_t i = 0; i < p1.size(); ++i) {
+    const Eigen::Vector3d x1 = p1[i].homogeneous(), x2 = p2[i].homogeneous();
+    const Eigen::Vector3d l2 = E * x1, l1 = E.transpose() * x2;
+    const double num = x2.dot(l2);
+    const double e2 = num * num / (l2.head<2>().squaredNorm() + 1e-18) * f2 * inv_s2;  // distance in image 2
+    const double e1 = num * num / (l1.head<2>().squaredNorm() + 1e-18) * f2 * inv_s2;
+    if (e1 > th || e2 > th) continue;
+    (*inl)[i] = 1;
+    score += (th_score - e1) + (th_score - e2);
+  }
+  return score;
+}
+
+struct Hypothesis {
+  Eigen::Matrix3d R;
+  Eigen::Vector3d t;
+  int good = 0;
+  double parallax_deg = 0.0;
+  std::vector<Eigen::Vector3d> points;
+  std::vector<char> ok;
+};
+
+// Triangulate the inliers with (R, t): cheirality, reprojection (pixels via focal) and parallax checks.
+void checkRT(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, const std::vector<Eigen::Vector3d>& b1,
+             const std::vector<Eigen::Vector3d>& b2, const std::vector<char>& inl, double focal, double th_px,
+             Hypothesis* h) {
+  h->R = R;
+  h->t = t;
+  h->good = 0;
+  h->points.assign(b1.size(), Eigen::Vector3d::Zero());
+  h->ok.assign(b1.size(), 0);
+  Eigen::Isometry3d T1 = Eigen::Isometry3d::Identity(), T2 = Eigen::Isometry3d::Identity();
+  T2.linear() = R;
+  T2.translation() = t;
+  const double th2 = th_px * th_px * 4.0;  // chi2-like gate: (2 sigma)^2
+  std::vector<double> parallaxes;
+  for (size_t i = 0; i < b1.size(); ++i) {
+    if (!inl[i]) continue;
+    Eigen::Vector3d X;
+    if (!triangulateBearings(T1, b1[i], T2, b2[i], &X) || !X.allFinite()) continue;
+    const Eigen::Vector3d X2 = R * X + t;
+    if (X.z() <= 0 || X2.z() <= 0) continue;
+    // angular reprojection error converted to pixels
+    const double e1 = (X.normalized() - b1[i].normalized()).squaredNorm() * focal * focal;
+    const double e2 = (X2.normalized() - b2[i].normalized()).squaredNorm() * focal * focal;
+    if (e1 > th2 || e2 > th2) continue;
+    const double cosp = X.normalized().dot((X + R.transpose() * t).normalized());  // rays from both centres
+    h->points[i] = X;
+    h->ok[i] = 1;
+    ++h->good;
+    parallaxes.push_back(std::acos(std::clamp(cosp, -1.0, 1.0)) * 180.0 / M_PI);
+  }
+  if (!parallaxes.empty()) {
+    std::nth_element(parallaxes.begin(), parallaxes.begin() + parallaxes.size() / 2, parallaxes.end());
+    h->parallax_deg = parallaxes[parallaxes.size() / 2];
+  }
+}
+
+
+// The matches whose rays point forward in both views, as bearings, normalized and OpenCV coordinates.
+struct ForwardMatches {
+  std::vector<int> index;  // into the caller's match list
+  std::vector<Eigen::Vector3d> b1, b2;
+  std::vector<Eigen::Vector2d> p1, p2;
+  std::vector<cv::Point2f> c1, c2;
+};
+
+// Only rays in front of both cameras have normalized coordinates (fisheye rays beyond 90 deg are dropped).
+ForwardMatches collectForwardMatches(const std::vector<Eigen::Vector3d>& b1, const std::vector<Eigen::Vector3d>& b2) {
+  ForwardMatches m;
+  for (size_t i = 0; i < b1.size(); ++i) {
+    if (b1[i].z() < 0.1 || b2[i].z() < 0.1) continue;
+    m.index.push_back(static_cast<int>(i));
+    m.b1.push_back(b1[i]);
+    m.b2.push_back(b2[i]);
+    m.p1.push_back(normalized(b1[i]));
+    m.p2.push_back(normalized(b2[i]));
+    m.c1.emplace_back(m.p1.back().x(), m.p1.back().y());
+    m.c2.emplace_back(m.p2.back().x(), m.p2.back().y());
+  }
+  return m;
+}
+
+// Both models by RANSAC (OpenCV) and their ORB-SLAM scores.
+struct TwoViewModels {
+  cv::Mat E, H;
+  bool have_e = false, have_h = false;
+  std::vector<char> inliers_e, inliers_h;
+};
+
+TwoViewModels fitEssentialAndHomography(const ForwardMatches& m, double focal, const TwoViewParams& params,
+                                        TwoViewResult* res) {
+  TwoViewModels models;
+  const double th_norm = params.threshold_px / focal;
+  cv::Mat mask_e, mask_h;
+  models.E = cv::findEssentialMat(m.c1, m.c2, cv::Mat::eye(3, 3, CV_64F), cv::RANSAC, 0.999, th_norm, mask_e);
+  models.H = cv::findHomography(m.c1, m.c2, cv::RANSAC, th_norm, mask_h, 2000, 0.999);
+  models.have_e = models.E.rows == 3 && models.E.cols == 3;
+  models.have_h = models.H.rows == 3 && models.H.cols == 3;
+  if (models.have_e) {
+    Eigen::Matrix3d E = Eigen::Matrix3d::Zero();
+    cv::cv2eigen(models.E, E);
+    res->score_f = scoreEssential(E, m.p1, m.p2, focal, params.threshold_px, &models.inliers_e);
+  }
+  if (models.have_h) {
+    Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+    cv::cv2eigen(models.H, H);
+    res->score_h = scoreHomography(H, m.p1, m.p2, focal, params.threshold_px, &models.inliers_h);
+  }
+  return models;
+}
+
+// Every (R, t) the chosen model decomposes into, each triangulated and checked (checkRT).
+std::vector<Hypothesis> poseHypotheses(const TwoViewModels& models, bool use_h, const ForwardMatches& m, double focal,
+                                       double threshold_px) {
+  std::vector<Hypothesis> hyps;
+  if (use_h) {
+    std::vector<cv::Mat> Rs, ts, ns;
+    cv::decomposeHomographyMat(models.H, cv::Mat::eye(3, 3, CV_64F), Rs, ts, ns);
+    for (size_t k = 0; k < Rs.size(); ++k) {
+      Eigen::Matrix3d R;
+      Eigen::Vector3d t;
+      cv::cv2eigen(Rs[k], R);
+      cv::cv2eigen(ts[k], t);
+      if (t.norm() < 1e-9) continue;
+      hyps.emplace_back();
+      checkRT(R, t.normalized(), m.b1, m.b2, models.inliers_h, focal, threshold_px, &hyps.back());
+    }
+  } else {
+    cv::Mat R1, R2, t;
+    cv::decomposeEssentialMat(models.E, R1, R2, t);
+    Eigen::Matrix3d Ra, Rb;
+    Eigen::Vector3d te;
+    cv::cv2eigen(R1, Ra);
+    cv::cv2eigen(R2, Rb);
+    cv::cv2eigen(t, te);
+    for (const auto& R : {Ra, Rb})
+      for (double s : {1.0, -1.0}) {
+        hyps.emplace_back();
+        checkRT(R, s * te.normalized(), m.b1, m.b2, models.inliers_e, focal, threshold_px, &hyps.back());
+      }
+  }
+  return hyps;
+}
+
+// The hypothesis with the most good points, if it is unambiguous, triangulates enough and has enough parallax.
+const Hypothesis* selectHypothesis(std::vector<Hypothesis>* hyps, const TwoViewParams& params, TwoViewResult* res) {
+  if (hyps->empty()) {
+    res->reason = res->model + ": no decomposition";
+    return nullptr;
+  }
+  std::sort(hyps->begin(), hyps->end(), [](const Hypothesis& a, const Hypothesis& b) { return a.good > b.good; });
+  const Hypothesis& best = (*hyps)[0];
+  const int second = hyps->size() > 1 ? (*hyps)[1].good : 0;
+  res->median_parallax_deg = best.parallax_deg;
+  res->num_triangulated = best.good;
+  if (best.good < params.min_triangulated) {
+    res->reason = res->model + ": too few triangulated points (" + std::to_string(best.good) + ")";
+    return nullptr;
+  }
+  if (second > 0.75 * best.good) {
+    res->reason = res->model + ": ambiguous decomposition (" + std::to_string(best.good) + " vs " +
+                  std::to_string(second) + ")";
+    return nullptr;
+  }
+  if (best.parallax_deg < params.min_parallax_deg) {
+    res->reason = res->model + ": parallax too low (" + std::to_string(best.parallax_deg) + " deg)";
+    return nullptr;
+  }
+  return &best;
+}
+
+// Gold-standard refinement: two-view BA on the triangulated inliers (frame 1 fixed; the scale gauge is fixed
+// afterwards by normalizing |t| = 1). Writes R_21, t_21 and the points that pass cheirality and chi2.
+void refineTwoView(const Hypothesis& best, const ForwardMatches& m, double focal, const TwoViewParams& params,
+                   TwoViewResult* res) {
+  NormalizedPinhole ncam(focal);
+  std::vector<BAKeyframe> kf(2);
+  kf[0].fixed = true;
+  kf[1].T_c_w.linear() = best.R;
+  kf[1].T_c_w.translation() = best.t;
+  std::vector<BAPoint> bp;
+  std::vector<BAObservation> bo;
+  std::vector<int> which;
+  for (size_t k = 0; k < m.index.size(); ++k) {
+    if (!best.ok[k]) continue;
+    const int pi = static_cast<int>(bp.size());
+    bp.push_back({best.points[k]});
+    bo.push_back({0, pi, focal * m.p1[k], params.threshold_px});
+    bo.push_back({1, pi, focal * m.p2[k], params.threshold_px});
+    which.push_back(static_cast<int>(k));
+  }
+  BAOptions bao;
+  bao.max_num_iterations = 15;
+  bao.max_solver_time_in_seconds = 0.2;
+  bao.huber_delta = 1.0;
+  BASummary bs;
+  Eigen::Matrix3d R = best.R;
+  Eigen::Vector3d t = best.t;
+  double scale = 1.0;
+  if (bundleAdjust(ncam, &kf, &bp, bo, bao, &bs) && kf[1].T_c_w.translation().norm() > 1e-9) {
+    R = kf[1].T_c_w.rotation();
+    scale = 1.0 / kf[1].T_c_w.translation().norm();
+    t = kf[1].T_c_w.translation() * scale;
+  } else {
+    bs.outlier.assign(bo.size(), 0);
+    for (size_t i = 0; i < bp.size(); ++i) bp[i].p_w = best.points[which[i]];
+  }
+  res->ok = true;
+  res->R_21 = R;
+  res->t_21 = t;
+  int n = 0;
+  for (size_t i = 0; i < which.size(); ++i) {
+    if (bs.outlier[2 * i] || bs.outlier[2 * i + 1]) continue;
+    const Eigen::Vector3d X = bp[i].p_w * scale;
+    if (X.z() <= 0 || (R * X + t).z() <= 0) continue;
+    res->points[m.index[which[i]]] = X;
+    res->triangulated[m.index[which[i]]] = 1;
+    ++n;
+  }
+  res->num_triangulated = n;
+  if (n < params.min_triangulated) {
+    res->ok = false;
+    res->reason = res->model + ": too few points after refinement (" + std::to_string(n) + ")";
+  }
+}
+
+}  // namespace
+
+TwoViewResult initializeTwoView(const std::vector<Eigen::Vector3d>& b1, const std::vector<Eigen::Vector3d>& b2,
+                                double focal, const TwoViewParams& params) {
+  TwoViewResult res;
+  res.points.assign(b1.size(), Eigen::Vector3d::Zero());
+  res.triangulated.assign(b1.size(), 0);
+  if (b2.size() != b1.size()) {
+    res.reason = "bearing vectors of different sizes";
+    return res;
+  }
+  const ForwardMatches m = collectForwardMatches(b1, b2);
+  if (m.index.size() < static_cast<size_t>(std::max(8, params.min_triangulated))) {
+    res.reason = "too few matches (" + std::to_string(m.index.size()) + ")";
+    return res;
+  }
+  const TwoViewModels models = fitEssentialAndHomography(m, focal, params, &res);
+  if (!models.have_e && !models.have_h) {
+    res.reason = "no essential / homography model";
+    return res;
+  }
+  // Model selection, ORB-SLAM: R_H = S_H / (S_H + S_F).
+  const double rh = res.score_h / std::max(1e-9, res.score_h + res.score_f);
+  const bool use_h = models.have_h && (!models.have_e || rh > params.homography_ratio);
+  res.model = use_h ? "homography" : "essential";
+  std::vector<Hypothesis> hyps = poseHypotheses(models, use_h, m, focal, params.threshold_px);
+  const Hypothesis* best = selectHypothesis(&hyps, params, &res);
+  if (best) refineTwoView(*best, m, focal, params, &res);
+  return res;
+}
+
+}  // namespace iraf_vo

@@ -1,0 +1,249 @@
+// Unit tests of the tracker's role classes on hand-built maps: keyframe policy, map-point culling, the
+// local BA window and its monocular gauge, bounded map size, and the local mapper's thread lifecycle.
+#include <iraf_vo/tracking/keyframe_policy.h>
+#include <iraf_vo/tracking/local_ba.h>
+#include <iraf_vo/tracking/local_mapper.h>
+#include <iraf_vo/tracking/map.h>
+#include <iraf_vo/tracking/matcher.h>
+
+#include <gtest/gtest.h>
+
+#include "unit/tracking_test_utils.h"
+
+#include <chrono>
+#include <future>
+
+namespace iraf_vo {
+namespace {
+
+// A frame with n keypoints on a grid, camera centre at (x, 0, 0) looking down +z.
+Frame gridFrame(long index, int n, double x) {
+  Frame f;
+  f.index = index;
+  for (int i = 0; i < n; ++i) {
+    cv::KeyPoint kp(10.f + 20.f * (i % 30), 10.f + 20.f * (i / 30), 31.f);
+    kp.octave = 0;
+    f.keypoints.push_back(kp);
+  }
+  f.descriptors = cv::Mat::zeros(n, 32, CV_8U);
+  for (int i = 0; i < n; ++i) f.descriptors.at<uint8_t>(i, 0) = static_cast<uint8_t>(i);
+  f.bearings.assign(n, Eigen::Vector3d::UnitZ());
+  f.valid.assign(n, 1);
+  f.point_id.assign(n, -1);
+  f.T_c_w = Eigen::Isometry3d::Identity();
+  f.T_c_w.translation() = Eigen::Vector3d(-x, 0, 0);
+  return f;
+}
+
+// Two initial keyframes sharing n points, then `more` keyframes each observing all points.
+struct HandBuiltMap {
+  Map map;
+  std::vector<long> kf_ids;
+  std::vector<long> point_ids;
+  HandBuiltMap(int n, int more) {
+    Frame f0 = gridFrame(0, n, 0.0), f1 = gridFrame(1, n, 0.1);
+    auto kf0 = Keyframe::fromFrame(f0, f0.T_c_w), kf1 = Keyframe::fromFrame(f1, f1.T_c_w);
+    std::vector<NewMapPoint> pts;
+    for (int i = 0; i < n; ++i) pts.push_back({Eigen::Vector3d(0.01 * i, 0, 2), 0, i, 0, i});
+    int created = 0;
+    EXPECT_TRUE(map.createInitialMap(kf0, kf1, pts, n, &created));
+    EXPECT_EQ(created, n);
+    kf_ids = {kf0->id, kf1->id};
+    point_ids = kf1->point_id;
+    for (int k = 0; k < more; ++k) {
+      Frame f = gridFrame(2 + k, n, 0.2 + 0.1 * k);
+      f.point_id = point_ids;
+      kf_ids.push_back(map.addKeyframe(f));
+    }
+  }
+};
+
+TEST(KeyframePolicy, Conditions) {
+  TrackerParams p;  // keyframe_min_tracked 80, ratio 0.9, max 20 frames, sync busy 3 frames
+  p.mapping_thread = true;
+  KeyframeCandidate c;
+  c.reference_tracked = 200;
+  c.frames_since_keyframe = 5;
+  c.inliers = 195;
+  c.mapping_idle = true;
+  EXPECT_FALSE(needNewKeyframe(c, p)) << "tracking well: no keyframe";
+  c.inliers = 150;  // < 0.9 * 200 and the mapper is idle
+  EXPECT_TRUE(needNewKeyframe(c, p));
+  c.mapping_idle = false;
+  EXPECT_FALSE(needNewKeyframe(c, p)) << "(b) waits for an idle mapper";
+  c.frames_since_keyframe = p.max_frames_between_keyframes;
+  EXPECT_TRUE(needNewKeyframe(c, p)) << "(b) or (c) after the timeout";
+  c.frames_since_keyframe = 5;
+  c.inliers = p.keyframe_min_tracked - 1;
+  EXPECT_TRUE(needNewKeyframe(c, p)) << "(a) losing the map, even with a busy mapper";
+  p.min_frames_between_keyframes = 6;
+  EXPECT_FALSE(needNewKeyframe(c, p)) << "never before min_frames_between_keyframes";
+  // Synchronous mapping: "idle" = sync_mapping_busy_frames after the last keyframe.
+  TrackerParams s;
+  s.mapping_thread = false;
+  KeyframeCandidate d;
+  d.reference_tracked = 200;
+  d.inliers = 150;
+  d.mapping_idle = false;  // ignored
+  d.frames_since_keyframe = s.sync_mapping_busy_frames - 1;
+  EXPECT_FALSE(needNewKeyframe(d, s));
+  d.frames_since_keyframe = s.sync_mapping_busy_frames;
+  EXPECT_TRUE(needNewKeyframe(d, s));
+}
+
+TEST(LocalBA, GaugeFixesOldestUntilTwoFixedAndSpanHolds) {
+  // Window of 4 keyframes on a line (centres 0, 1, 2, 3; newest first), no keyframe outside.
+  std::vector<BAKeyframe> kfs(4);
+  for (int i = 0; i < 4; ++i) kfs[i].T_c_w.translation() = Eigen::Vector3d(-(3.0 - i), 0, 0);
+  EXPECT_EQ(fixMonocularGauge(&kfs, 4, 0.3), 2);
+  EXPECT_TRUE(kfs[3].fixed && kfs[2].fixed);
+  EXPECT_FALSE(kfs[1].fixed || kfs[0].fixed);
+  // Two fixed anchors outside the window that span too little (0.1 of a window extent of 3): the oldest
+  // window keyframes get fixed too; the newest stays free.
+  std::vector<BAKeyframe> w(3);
+  for (int i = 0; i < 3; ++i) w[i].T_c_w.translation() = Eigen::Vector3d(-(3.0 - 1.5 * i), 0, 0);
+  BAKeyframe a, b;
+  a.fixed = b.fixed = true;
+  a.T_c_w.translation() = Eigen::Vector3d(-3.0, 0, 0);
+  b.T_c_w.translation() = Eigen::Vector3d(-3.1, 0, 0);
+  w.push_back(a);
+  w.push_back(b);
+  EXPECT_EQ(fixMonocularGauge(&w, 3, 0.3), 3);
+  EXPECT_TRUE(w[2].fixed);
+  EXPECT_FALSE(w[0].fixed);
+  // Anchors spanning enough: nothing in the window is fixed.
+  w[2].fixed = false;
+  w[4].T_c_w.translation() = Eigen::Vector3d(-5.0, 0, 0);
+  EXPECT_EQ(fixMonocularGauge(&w, 3, 0.3), 2);
+  EXPECT_FALSE(w[0].fixed || w[1].fixed || w[2].fixed);
+}
+
+TEST(LocalBA, WindowIsTheNewestKeyframesWithOutsideObserversFixed) {
+  HandBuiltMap hb(40, 4);  // 6 keyframes, every one observes all 40 points
+  const LocalBAProblem prob = hb.map.localBAProblem(3, 0.3);
+  ASSERT_EQ(prob.window_size, 3);
+  ASSERT_EQ(prob.keyframe_ids.size(), 6u);
+  EXPECT_EQ(prob.keyframe_ids[0], hb.kf_ids.back()) << "newest first";
+  for (int w = 0; w < 3; ++w) EXPECT_FALSE(prob.keyframes[w].fixed) << w;  // the 3 outside anchors span enough
+  for (size_t k = 3; k < 6; ++k) EXPECT_TRUE(prob.keyframes[k].fixed) << k;
+  EXPECT_EQ(prob.point_ids.size(), 40u);
+  EXPECT_EQ(prob.observations.size(), 40u * 6u);
+  // A window covering the whole map: the gauge comes from the window's oldest keyframes.
+  const LocalBAProblem all = hb.map.localBAProblem(10, 0.3);
+  EXPECT_EQ(all.window_size, 6);
+  int fixed = 0;
+  for (const auto& k : all.keyframes) fixed += k.fixed;
+  EXPECT_GE(fixed, 2);
+  EXPECT_FALSE(all.keyframes[0].fixed);
+}
+
+TEST(LocalBA, OutlierObservationsAreRemovedAndPosesWrittenBack) {
+  HandBuiltMap hb(20, 1);
+  LocalBAProblem prob = hb.map.localBAProblem(2, 0.0);
+  BASummary summary;
+  summary.outlier.assign(prob.observations.size(), 0);
+  summary.outlier[0] = 1;
+  const long pid = prob.point_ids[prob.observations[0].point];
+  prob.points[prob.observations[0].point].p_w = Eigen::Vector3d(7, 7, 7);
+  hb.map.applyLocalBA(prob, summary);
+  bool found = false;
+  for (const auto& p : hb.map.pointPositions()) found |= p.isApprox(Eigen::Vector3d(7, 7, 7));
+  EXPECT_TRUE(found) << "optimized point written back";
+  EXPECT_EQ(hb.map.trackedPoints(prob.observation_keypoint[0].first, 1), 19) << "point " << pid << " unlinked";
+}
+
+TEST(MapCulling, RecentPointsWithLowFoundRatioOrFewObservationsGo) {
+  HandBuiltMap hb(10, 2);  // kf ids 0..3, points on keypoints 0..9
+  // Two fresh keyframes with 20 keypoints and no observations; two recent points between them.
+  const long kf_a = hb.map.addKeyframe(gridFrame(10, 20, 0.5));
+  const long kf_new = hb.map.addKeyframe(gridFrame(11, 20, 0.6));
+  hb.map.addTriangulatedPoints({{Eigen::Vector3d(0, 0, 3), kf_new, 11, kf_a, 11}});
+  hb.map.addTriangulatedPoints({{Eigen::Vector3d(0, 1, 3), kf_new, 12, kf_a, 12}});
+  ASSERT_EQ(hb.map.numPoints(), 12u);
+  // Point A (keypoint 11) seen in 10 frames, found in 1: found ratio 0.1 < 0.25 -> culled now.
+  std::vector<LocalPoint> local = hb.map.localPoints();
+  std::vector<char> visible(local.size(), 0);
+  std::vector<int> kp_of(local.size(), -1);
+  for (size_t i = 0; i < local.size(); ++i)
+    if (local[i].p_w.isApprox(Eigen::Vector3d(0, 0, 3))) visible[i] = 1;
+  for (int k = 0; k < 9; ++k) hb.map.countVisibility(local, visible, kp_of);
+  hb.map.cullRecentPoints(kf_new, 0.25);
+  EXPECT_EQ(hb.map.numPoints(), 11u);
+  // Point B has 2 observations: kept one keyframe later, culled two keyframes after its creation.
+  hb.map.cullRecentPoints(kf_new + 1, 0.25);
+  EXPECT_EQ(hb.map.numPoints(), 11u);
+  hb.map.cullRecentPoints(kf_new + 2, 0.25);
+  EXPECT_EQ(hb.map.numPoints(), 10u);
+  EXPECT_EQ(hb.map.trackedPoints(kf_new, 1), 0) << "culled point unlinked from its keyframes";
+}
+
+TEST(MapCulling, MapIsBoundedToMaxKeyframes) {
+  HandBuiltMap hb(10, 6);  // 8 keyframes
+  hb.map.dropOldKeyframes(5);
+  EXPECT_EQ(hb.map.numKeyframes(), 5u);
+  EXPECT_EQ(hb.map.keyframePoses().front().id, hb.kf_ids[3]);
+  EXPECT_EQ(hb.map.numPoints(), 10u) << "points still observed stay";
+  hb.map.dropOldKeyframes(0);
+  EXPECT_EQ(hb.map.numPoints(), 0u) << "points without observations are deleted";
+}
+
+TEST(MatchSetTest, LinkReplacesAndUnlinks) {
+  MatchSet m(5, 4);
+  m.link(0, 2);
+  m.link(1, 3);
+  EXPECT_EQ(m.size(), 2);
+  m.link(0, 1);  // keypoint 0 moves from point 2 to point 1
+  EXPECT_EQ(m.keypointOf(2), -1);
+  EXPECT_EQ(m.keypointOf(1), 0);
+  m.unlinkKeypoint(1);
+  EXPECT_EQ(m.keypointOf(3), -1);
+  EXPECT_EQ(m.size(), 1);
+}
+
+TEST(LocalMapperTest, ThreadProcessesQueueStopsAndResets) {
+  test::TestPinhole cam(640, 480, 500, 320, 240);
+  TrackerParams p;
+  p.mapping_thread = true;
+  p.max_map_keyframes = 4;
+  p.ba_window_size = 3;
+  HandBuiltMap hb(30, 4);  // 6 keyframes
+  {
+    LocalMapper mapper(cam, p, &hb.map);
+    EXPECT_TRUE(mapper.idle());
+    for (long id : hb.kf_ids) mapper.insertKeyframe(id);
+    mapper.waitUntilIdle();
+    EXPECT_TRUE(mapper.idle());
+    EXPECT_LE(hb.map.numKeyframes(), 4u) << "the mapper bounds the map";
+    EXPECT_GE(mapper.stats().ba_runs, 1);
+    // Reset with work queued: returns, and the mapper still works afterwards.
+    for (long id : hb.kf_ids) mapper.insertKeyframe(id);
+    mapper.clearQueue();
+    EXPECT_TRUE(mapper.idle());
+    Frame f = gridFrame(50, 30, 1.0);
+    const long id = hb.map.addKeyframe(f);
+    mapper.insertKeyframe(id);
+    mapper.waitUntilIdle();
+    EXPECT_TRUE(mapper.idle());
+  }
+  // Destruction with keyframes queued must not hang.
+  auto done = std::async(std::launch::async, [&] {
+    LocalMapper mapper(cam, p, &hb.map);
+    for (int k = 0; k < 3; ++k) mapper.insertKeyframe(hb.map.keyframePoses().back().id);
+  });
+  EXPECT_EQ(done.wait_for(std::chrono::seconds(30)), std::future_status::ready);
+}
+
+TEST(LocalMapperTest, SynchronousMappingProcessesInline) {
+  test::TestPinhole cam(640, 480, 500, 320, 240);
+  TrackerParams p;
+  p.mapping_thread = false;
+  p.max_map_keyframes = 3;
+  HandBuiltMap hb(30, 3);
+  LocalMapper mapper(cam, p, &hb.map);
+  mapper.insertKeyframe(hb.kf_ids.back());
+  EXPECT_EQ(hb.map.numKeyframes(), 3u) << "processed before insertKeyframe returned";
+  EXPECT_EQ(mapper.stats().ba_runs, 1);
+}
+
+}  // namespace
+}  // namespace iraf_vo
