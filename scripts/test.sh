@@ -84,7 +84,7 @@ if [ "$TSAN" = 1 ]; then
     -DPYTHON_EXECUTABLE=/usr/bin/python3 -DPython3_EXECUTABLE=/usr/bin/python3 \
     -DCATKIN_ENABLE_TESTING=ON >"$TSAN_DIR/cmake.log" 2>&1 \
     || { cat "$TSAN_DIR/cmake.log"; echo "test.sh: tsan cmake configure failed" >&2; exit 1; }
-  tsan_tests=(test_tracking_roles test_tracking_pipeline test_tracking_e2e)
+  tsan_tests=(test_tracking_roles test_tracking_pipeline test_tracking_health test_tracking_e2e)
   cmake --build "$TSAN_DIR" --target "${tsan_tests[@]}" -j"$(nproc)"
   export TSAN_OPTIONS="${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1:suppressions=$ROOT/test/sanitizers/tsan.supp}"
   rm -rf "$TSAN_DIR/test_results"
