@@ -1,5 +1,7 @@
 #include "iraf_vo/features/cell_fast_detector.h"
 
+#include "iraf_vo/features/fast9.h"
+
 #include <opencv2/features2d.hpp>
 
 #include <algorithm>
@@ -16,11 +18,16 @@ namespace iraf_vo {
 // whole strip at a low threshold; runs of cells below T_s get their own call.
 // Empty cells are retried at retry_th (ORB-SLAM's minThFAST retry). Each pixel belongs to one cell,
 // so unlike ORB-SLAM's overlapping ROIs no corner is reported twice.
+// That is the reference path (FeatureParams::fast_path = false). The fast path (default) scans each strip
+// once with detectFast9, whose threshold is per column, i.e. every cell's own F_t: no call at a threshold
+// below the cell's, no per-run calls. Both give the same corners except where non-max suppression sees a
+// neighbour across a run's ROI border (reference) that the one pass sees (fast path); with equal thresholds
+// in a strip (adaptive_threshold off) they are identical.
 // (Measured alternative, issue 12: one cv::FAST pass over the whole level at its lowest cell threshold,
 // filtered by score, costs 2.7x the scan at 20 on EuRoC level 0 when that lowest threshold is ft_min = 7,
-// which is the case on most frames: slower than these strips.)
+// which is the case on most frames: slower than the strips.)
 void CellFastDetector::detect(const cv::Mat& img, const CellGrid& g, const std::vector<double>& thresholds,
-                              double retry_th, std::vector<cv::KeyPoint>* candidates,
+                              double retry_th, bool one_pass, std::vector<cv::KeyPoint>* candidates,
                               std::vector<double>* cell_thresholds, FeatureStats* st) {
   const int th_retry = std::max(1, static_cast<int>(std::lround(retry_th)));
   cell_th_.resize(g.n_cols);
@@ -38,7 +45,7 @@ void CellFastDetector::detect(const cv::Mat& img, const CellGrid& g, const std::
       cell_thresholds->push_back(thresholds[i * g.n_cols + j]);
       ++st->cells;
     }
-    detectCellRow(img, g, i, th_retry, candidates, st);
+    detectCellRow(img, g, i, th_retry, one_pass, candidates, st);
   }
 }
 
@@ -62,7 +69,7 @@ int CellFastDetector::stripThreshold(const std::vector<int>& sorted_th, int n_va
   return t_strip;
 }
 
-void CellFastDetector::detectCellRow(const cv::Mat& img, const CellGrid& g, int i, int th_retry,
+void CellFastDetector::detectCellRow(const cv::Mat& img, const CellGrid& g, int i, int th_retry, bool one_pass,
                                      std::vector<cv::KeyPoint>* candidates, FeatureStats* st) {
   const int ini_y = g.y0(i);
   const int max_y = std::min(ini_y + g.h_cell + 6, g.max_y);
@@ -70,11 +77,41 @@ void CellFastDetector::detectCellRow(const cv::Mat& img, const CellGrid& g, int 
   for (int j = 0; j < g.n_cols; ++j)
     if (cell_th_[j] >= 0) sorted_th_[n_valid++] = cell_th_[j];
   if (n_valid == 0) return;
-  std::sort(sorted_th_.begin(), sorted_th_.begin() + n_valid);
-  const int t_strip = stripThreshold(sorted_th_, n_valid);
+  const cv::Mat strip = img(cv::Rect(g.min_border, ini_y, g.max_x - g.min_border, max_y - ini_y));
+  int t_strip = 256;  // no strip corners below a cell's threshold (one pass)
+  if (one_pass) {
+    scanStripOnePass(strip, g, ini_y, candidates);
+  } else {
+    std::sort(sorted_th_.begin(), sorted_th_.begin() + n_valid);
+    t_strip = stripThreshold(sorted_th_, n_valid);
+    scanStripAndRuns(img, strip, g, ini_y, max_y, t_strip, candidates);
+  }
+  retryEmptyCells(img, g, ini_y, max_y, th_retry, t_strip, candidates, st);
+}
 
+void CellFastDetector::scanStripOnePass(const cv::Mat& strip, const CellGrid& g, int ini_y,
+                                        std::vector<cv::KeyPoint>* candidates) {
+  // Every column gets its cell's threshold: one FAST pass applies F_t of eq. (20) per cell.
+  col_th_.resize(strip.cols);
+  for (int c = 0; c < strip.cols; ++c) {
+    const int th = cell_th_[g.colOf(static_cast<float>(g.min_border + c))];
+    col_th_[c] = static_cast<uint8_t>(th < 0 ? 255 : std::min(th, 255));
+  }
+  detectFast9(strip, col_th_.data(), &strip_kps_, &fast9_buffers_);
+  for (cv::KeyPoint& kp : strip_kps_) {
+    const int j = g.colOf(kp.pt.x + g.min_border);
+    kp.pt.x += g.min_border;
+    kp.pt.y += ini_y;
+    kp.class_id = cell_th_[j];
+    candidates->push_back(kp);
+    ++cell_count_[j];
+  }
+}
+
+void CellFastDetector::scanStripAndRuns(const cv::Mat& img, const cv::Mat& strip, const CellGrid& g, int ini_y,
+                                        int max_y, int t_strip, std::vector<cv::KeyPoint>* candidates) {
   // Strip scan: detection area x in [min_border + 3, max_x - 3), the union of the cells' areas.
-  cv::FAST(img(cv::Rect(g.min_border, ini_y, g.max_x - g.min_border, max_y - ini_y)), strip_kps_, t_strip, true);
+  cv::FAST(strip, strip_kps_, t_strip, true);
   for (cv::KeyPoint& kp : strip_kps_) {
     kp.pt.x += g.min_border;
     kp.pt.y += ini_y;
@@ -107,6 +144,10 @@ void CellFastDetector::detectCellRow(const cv::Mat& img, const CellGrid& g, int 
     }
     j = j1 + 1;
   }
+}
+
+void CellFastDetector::retryEmptyCells(const cv::Mat& img, const CellGrid& g, int ini_y, int max_y, int th_retry,
+                                       int t_strip, std::vector<cv::KeyPoint>* candidates, FeatureStats* st) {
   // Retry of the empty cells at th_retry (only where it is below the cell's threshold).
   for (int j = 0; j < g.n_cols; ++j) {
     const int th = cell_th_[j];

@@ -92,7 +92,7 @@ void FeatureExtractor::detectLevel(int l, int quota, const FeatureParams& p, Fea
   st->ms_threshold += threadCpuMsSince(t_th);
 
   candidates_.clear();
-  fast_detector_.detect(img, grid, thresholds_, retry_th, &candidates_, &cell_thresholds_, st);
+  fast_detector_.detect(img, grid, thresholds_, retry_th, p.fast_path, &candidates_, &cell_thresholds_, st);
   st->candidates += static_cast<int>(candidates_.size());
 
   // Quad-tree distribution with the level's quota; keypoints keep level coordinates until description.

@@ -91,6 +91,7 @@ bool loadFeatureParams(const YAML::Node& node, FeatureParams* p, std::string* er
       {"s_min", bind(&q.s_min)},
       {"min_features", bind(&q.min_features)},
       {"eq23_literal", bind(&q.eq23_literal)},
+      {"fast_path", bind(&q.fast_path)},
       {"cull_score", bind(&q.cull_score)},
   };
   for (const auto& kv : node) {

@@ -39,6 +39,11 @@ struct FeatureParams {
   // I_m of eq. (19): mean of a center_window x center_window patch at the cell centre
   // (1 = the paper's single centre pixel; larger is robust to noise).
   int center_window = 5;
+  // FAST with the per-cell thresholds. true (default): each row of cells in one FAST-9 pass whose threshold
+  // is per column (= every cell's own F_t of eq. 20, detectFast9). false: the reference path, cv::FAST per
+  // row of cells at a strip threshold + per run of lower-threshold cells, corners filtered by their cell's
+  // threshold. Same corners except non-max suppression at run borders; identical with adaptive_threshold off.
+  bool fast_path = true;
 
   // ---- feature culling (eqs. 21-23) ----
   bool culling = true;
