@@ -164,7 +164,13 @@ void CellFastDetector::retryEmptyCells(const cv::Mat& img, const CellGrid& g, in
     }
     const int ini_x = g.x0(j);
     const int max_x = std::min(ini_x + g.w_cell + 6, g.max_x);
-    cv::FAST(img(cv::Rect(ini_x, ini_y, max_x - ini_x, max_y - ini_y)), cell_kps_, th_retry, true);
+    const cv::Mat cell = img(cv::Rect(ini_x, ini_y, max_x - ini_x, max_y - ini_y));
+    if (t_strip > 255) {  // fast path: detectFast9 at one threshold = cv::FAST, without its per-call setup
+      col_th_.assign(cell.cols, static_cast<uint8_t>(std::min(th_retry, 255)));
+      detectFast9(cell, col_th_.data(), &cell_kps_, &fast9_buffers_);
+    } else {
+      cv::FAST(cell, cell_kps_, th_retry, true);
+    }
     for (cv::KeyPoint& kp : cell_kps_) {
       kp.pt.x += ini_x;
       kp.pt.y += ini_y;

@@ -46,24 +46,22 @@ bool scalarIsCorner(const uint8_t* p, const int* off, int t) {
 }
 
 #if CV_SIMD128
-// Scores of 16 adjacent pixels at once (saturating uint8 margins; a lane that is not a corner gets a
-// meaningless value that the caller ignores).
-cv::v_uint8x16 scoreLanes(const uint8_t* p, const int* off, const cv::v_uint8x16& v) {
-  cv::v_uint8x16 best_all = cv::v_setzero_u8();
-  for (int polarity = 0; polarity < 2; ++polarity) {
-    cv::v_uint8x16 d[kRing];
-    for (int k = 0; k < kRing; ++k) {
-      const cv::v_uint8x16 x = cv::v_load(p + off[k]);
-      d[k] = polarity == 0 ? x - v : v - x;  // saturating: 0 where the pixel is on the other side
-    }
-    // Window minima of 2, 4, 8, then 9 elements.
-    cv::v_uint8x16 m2[kRing - 1], m4[kRing - 3], m8[kRing - 7];
-    for (int k = 0; k < kRing - 1; ++k) m2[k] = cv::v_min(d[k], d[k + 1]);
-    for (int k = 0; k < kRing - 3; ++k) m4[k] = cv::v_min(m2[k], m2[k + 2]);
-    for (int k = 0; k < kRing - 7; ++k) m8[k] = cv::v_min(m4[k], m4[k + 4]);
-    for (int s = 0; s < 16; ++s) best_all = cv::v_max(best_all, cv::v_min(m8[s], d[s + 8]));
+// Scores of 16 adjacent pixels at once. A corner has one polarity (9 brighter and 9 darker pixels do not fit on
+// 16), and every arc of the other polarity holds a pixel of this one, where its saturated margin is 0: so one
+// pass over the lane's own polarity's margins (bright_lanes selects) gives the score. Lanes that are not
+// corners get a meaningless value that the caller ignores.
+cv::v_uint8x16 scoreLanes(const uint8_t* p, const int* off, const cv::v_uint8x16& v, const cv::v_uint8x16& bright_lanes) {
+  cv::v_uint8x16 d[kRing];
+  for (int k = 0; k < kRing; ++k) {
+    const cv::v_uint8x16 x = cv::v_load(p + off[k]);
+    d[k] = cv::v_select(bright_lanes, x - v, v - x);  // saturating margins
   }
-  return best_all - cv::v_setall_u8(1);
+  // Window minima of 2, 4, 8, then 9 elements; the best arc.
+  cv::v_uint8x16 m2[kRing - 1], m4[kRing - 3], best = cv::v_setzero_u8();
+  for (int k = 0; k < kRing - 1; ++k) m2[k] = cv::v_min(d[k], d[k + 1]);
+  for (int k = 0; k < kRing - 3; ++k) m4[k] = cv::v_min(m2[k], m2[k + 2]);
+  for (int s = 0; s < 16; ++s) best = cv::v_max(best, cv::v_min(cv::v_min(m4[s], m4[s + 4]), d[s + 8]));
+  return best - cv::v_setall_u8(1);
 }
 #endif
 
@@ -93,9 +91,10 @@ void detectFast9(const cv::Mat& img, const uint8_t* th, std::vector<cv::KeyPoint
       int j = 3;
 #if CV_SIMD128
       const cv::v_uint8x16 one = cv::v_setall_u8(1), arc_minus_1 = cv::v_setall_u8(kArc - 1);
-      for (; j + 16 <= cols - 3; j += 16) {
-        const uint8_t* p = row + j;
-        const cv::v_uint8x16 v = cv::v_load(p), t = cv::v_load(th + j);
+      // 16 pixels from column j0; lanes below column `from` were done by the previous block.
+      auto block = [&](int j0, int from) {
+        const uint8_t* p = row + j0;
+        const cv::v_uint8x16 v = cv::v_load(p), t = cv::v_load(th + j0);
         const cv::v_uint8x16 hi = v + t, lo = v - t;  // saturating, as the strict integer test needs
         // Quick rejection: every arc of 9 holds two consecutive compass points (0, 4, 8, 12).
         const cv::v_uint8x16 x0 = cv::v_load(p + off[0]), x4 = cv::v_load(p + off[4]);
@@ -104,7 +103,7 @@ void detectFast9(const cv::Mat& img, const uint8_t* th, std::vector<cv::KeyPoint
         const cv::v_uint8x16 d0 = x0 < lo, d4 = x4 < lo, d8 = x8 < lo, d12 = x12 < lo;
         const cv::v_uint8x16 maybe = (b0 & b4) | (b4 & b8) | (b8 & b12) | (b12 & b0) | (d0 & d4) | (d4 & d8) |
                                      (d8 & d12) | (d12 & d0);
-        if (!cv::v_check_any(maybe)) continue;
+        if (!cv::v_check_any(maybe)) return;
         // Longest run of brighter / darker circle pixels per lane.
         cv::v_uint8x16 run_b = cv::v_setzero_u8(), run_d = run_b, max_b = run_b, max_d = run_b;
         for (int k = 0; k < kRing; ++k) {
@@ -114,16 +113,22 @@ void detectFast9(const cv::Mat& img, const uint8_t* th, std::vector<cv::KeyPoint
           max_b = cv::v_max(max_b, run_b);
           max_d = cv::v_max(max_d, run_d);
         }
-        int mask = cv::v_signmask(cv::v_max(max_b, max_d) > arc_minus_1);
-        if (mask == 0) continue;
+        const cv::v_uint8x16 bright = max_b > arc_minus_1;
+        int mask = cv::v_signmask(bright | (max_d > arc_minus_1)) & ~((1 << (from - j0)) - 1);
+        if (mask == 0) return;
         uint8_t s[16];
-        cv::v_store(s, scoreLanes(p, off, v));
+        cv::v_store(s, scoreLanes(p, off, v, bright));
         while (mask) {
           const int k = __builtin_ctz(mask);
           mask &= mask - 1;
-          pos[nc++] = j + k;
-          curr[j + k] = s[k];
+          pos[nc++] = j0 + k;
+          curr[j0 + k] = s[k];
         }
+      };
+      for (; j + 16 <= cols - 3; j += 16) block(j, j);
+      if (j < cols - 3 && cols - 3 - 16 >= 3) {  // the tail: one block ending at the last column
+        block(cols - 3 - 16, j);
+        j = cols - 3;
       }
 #endif
       for (; j < cols - 3; ++j) {

@@ -62,6 +62,7 @@ FeatureFrame FeatureExtractor::extract(const cv::Mat& gray8, double stamp, const
   // Level 0 is copied so the frame never aliases caller memory kept in pyramid().
   gray8.copyTo(level0_);
   buildPyramid(level0_, p.scale_factor, p.n_levels, &pyramid_);
+  st.ms_pyramid = threadCpuMsSince(t_detect);
   const std::vector<int> quota = featuresPerLevel(p.n_features, p.scale_factor, p.n_levels);
   cell_thresholds_.clear();
   level_kps_.resize(p.n_levels);
@@ -92,7 +93,9 @@ void FeatureExtractor::detectLevel(int l, int quota, const FeatureParams& p, Fea
   st->ms_threshold += threadCpuMsSince(t_th);
 
   candidates_.clear();
+  const double t_fast = threadCpuMs();
   fast_detector_.detect(img, grid, thresholds_, retry_th, p.fast_path, &candidates_, &cell_thresholds_, st);
+  st->ms_fast += threadCpuMsSince(t_fast);
   st->candidates += static_cast<int>(candidates_.size());
 
   // Quad-tree distribution with the level's quota; keypoints keep level coordinates until description.

@@ -9,12 +9,6 @@
 
 namespace iraf_vo {
 
-namespace {
-bool isCullScore(const std::string& s) { return s == "eq23"; }
-}  // namespace
-
-const char* cullScoreNames() { return "eq23"; }
-
 std::string validate(const FeatureParams& p) {
   std::ostringstream e;
   // Upper bound: extract() reserves 4 * n_features candidates (int overflow / std::length_error for huge values,
@@ -38,7 +32,6 @@ std::string validate(const FeatureParams& p) {
                   std::make_pair("s_min", p.s_min)})
     if (!std::isfinite(kv.second)) e << kv.first << " must be finite (got " << kv.second << "); ";
   if (p.min_features < 0) e << "min_features must be >= 0 (got " << p.min_features << "); ";
-  if (!isCullScore(p.cull_score)) e << "cull_score must be one of " << cullScoreNames() << " (got '" << p.cull_score << "'); ";
   return e.str();
 }
 
@@ -92,7 +85,6 @@ bool loadFeatureParams(const YAML::Node& node, FeatureParams* p, std::string* er
       {"min_features", bind(&q.min_features)},
       {"eq23_literal", bind(&q.eq23_literal)},
       {"fast_path", bind(&q.fast_path)},
-      {"cull_score", bind(&q.cull_score)},
   };
   for (const auto& kv : node) {
     const std::string key = kv.first.as<std::string>("");

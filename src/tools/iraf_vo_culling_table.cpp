@@ -6,7 +6,7 @@
 //
 // Runs the front-end (Enhancer iraf unless --no-enhance, FeatureExtractor with the given FeatureParams but
 // culling OFF, so every keypoint reaches the tracker) and the tracker (mapping_thread = false: deterministic)
-// on the ASL folder DIR. Each keypoint's culling score S (the configured cull_score, computed exactly as
+// on the ASL folder DIR. Each keypoint's culling score S (eq. 23 with the given parameters, computed exactly as
 // culling would, on the same keypoint set) is recorded with its outcome:
 //   inlier = the keypoint was matched to a map point and was a pose inlier in its own frame
 //            (TrackResult::keypoint_inlier; only frames in the Tracking state count).
@@ -176,9 +176,8 @@ int main(int argc, char** argv) {
     }
   }
   const long all = kept.n + culled.n;
-  std::printf("iraf_vo_culling_table: %s frames [%ld, %ld), %ld tracked frames, %ld keypoints, cull_score %s, "
-              "s_min %.2f\n",
-              dataset.c_str(), first, last, tracked_frames, all, fp.cull_score.c_str(), fp.s_min);
+  std::printf("iraf_vo_culling_table: %s frames [%ld, %ld), %ld tracked frames, %ld keypoints, s_min %.2f\n",
+              dataset.c_str(), first, last, tracked_frames, all, fp.s_min);
   std::printf("  S bin         keypoints   share   inlier rate\n");
   for (int b = 0; b < bins; ++b) {
     if (per_bin[b].n == 0) continue;

@@ -60,14 +60,8 @@ struct FeatureParams {
   // eq. (23) as printed uses w2 * (1 - C_light), which rewards LOW contrast although the text says low
   // C_light marks unstable regions. false (default) = follow the stated intent: w2 * C_light.
   bool eq23_literal = false;
-  // Which score culling thresholds with s_min (see feature_culling.h):
-  //   "eq23"     the paper's S (eqs. 21-23, with eq23_literal);
-  //   see cullScoreNames() for the others.
-  std::string cull_score = "eq23";
 };
 
-/// "eq23|..." : the values FeatureParams::cull_score accepts.
-const char* cullScoreNames();
 
 /// Returns a message naming every unusable field (and its value), or "" when the params are usable.
 std::string validate(const FeatureParams& p);
