@@ -1,7 +1,7 @@
 // iraf_vo_culling_table: does the culling score separate keypoints that the tracker uses from those it
 // does not? (issue 12 step 2)
 //
-//   iraf_vo_culling_table --dataset DIR [--first N] [--frames N] [--no-enhance] [--bins B]
+//   iraf_vo_culling_table --dataset DIR [--first N] [--frames N] [--no-enhance] [--apply-culling] [--bins B]
 //                         [--set features.key=value ...] [--set tracker.key=value ...] [--csv FILE]
 //
 // Runs the front-end (Enhancer iraf unless --no-enhance, FeatureExtractor with the given FeatureParams but
@@ -12,6 +12,8 @@
 //            (TrackResult::keypoint_inlier; only frames in the Tracking state count).
 // Prints the inlier rate per S bin and for the keypoints culling would keep (S >= s_min) and cull (S < s_min,
 // ignoring min_features), and their ratio (culled / kept; culling earns its place when it is clearly < 1).
+// --apply-culling: culling ON as configured, so only the kept keypoints reach the tracker (the table then shows
+// the inlier rate of what the tracker received; the "culled" row holds only keypoints kept by min_features).
 // --csv writes one row per keypoint: frame,octave,response,threshold,density,contrast,S,inlier.
 #include <yaml-cpp/yaml.h>
 
@@ -31,7 +33,7 @@ namespace {
 
 void usage(FILE* f) {
   std::fprintf(f,
-               "usage: iraf_vo_culling_table --dataset DIR [--first N] [--frames N] [--no-enhance] [--bins B]\n"
+               "usage: iraf_vo_culling_table --dataset DIR [--first N] [--frames N] [--no-enhance] [--apply-culling] [--bins B]\n"
                "                             [--set features.key=value] [--set tracker.key=value] [--csv FILE]\n"
                "  DIR: ASL folder (DIR/mav0/cam0/data.csv, sensor.yaml); defaults: all frames, 10 bins of S in [0, 1]\n");
 }
@@ -47,7 +49,7 @@ int main(int argc, char** argv) {
   std::string dataset, csv_path;
   long first = 0, frames = -1;
   int bins = 10;
-  bool enhance = true;
+  bool enhance = true, apply_culling = false;
   iraf_vo::FeatureParams fp;
   iraf_vo::TrackerParams tp;
   tp.mapping_thread = false;
@@ -57,8 +59,8 @@ int main(int argc, char** argv) {
       usage(stdout);
       return 0;
     }
-    if (a == "--no-enhance") {
-      enhance = false;
+    if (a == "--no-enhance" || a == "--apply-culling") {
+      (a == "--no-enhance" ? enhance : apply_culling) = a == "--apply-culling";
       continue;
     }
     if (i + 1 >= argc) {
@@ -125,7 +127,7 @@ int main(int argc, char** argv) {
   }
   tp.scale_factor = fp.scale_factor;
   iraf_vo::FeatureParams extract_params = fp;  // every keypoint reaches the tracker
-  extract_params.culling = false;
+  extract_params.culling = apply_culling && fp.culling;
   iraf_vo::FeatureParams score_params = fp;    // S exactly as culling computes it
   score_params.culling = true;
   std::ofstream csv;
@@ -160,7 +162,8 @@ int main(int argc, char** argv) {
     if (r.state != iraf_vo::TrackingState::kTracking || r.keypoint_inlier.size() != frame.keypoints.size()) continue;
     ++tracked_frames;
     for (size_t i = 0; i < frame.keypoints.size(); ++i) {
-      const float s = cr.stability[i];
+      // With culling applied, S as extract() computed it on the full keypoint set (cr is on the kept ones).
+      const float s = extract_params.culling ? frame.stability[i] : cr.stability[i];
       const bool inl = r.keypoint_inlier[i] != 0;
       const int b = std::min(bins - 1, std::max(0, static_cast<int>(s * bins)));
       ++per_bin[b].n;
@@ -176,8 +179,9 @@ int main(int argc, char** argv) {
     }
   }
   const long all = kept.n + culled.n;
-  std::printf("iraf_vo_culling_table: %s frames [%ld, %ld), %ld tracked frames, %ld keypoints, s_min %.2f\n",
-              dataset.c_str(), first, last, tracked_frames, all, fp.s_min);
+  std::printf("iraf_vo_culling_table: %s frames [%ld, %ld), %ld tracked frames, %ld keypoints, s_min %.2f, culling %s\n",
+              dataset.c_str(), first, last, tracked_frames, all, fp.s_min,
+              extract_params.culling ? "applied" : "off (scores only)");
   std::printf("  S bin         keypoints   share   inlier rate\n");
   for (int b = 0; b < bins; ++b) {
     if (per_bin[b].n == 0) continue;
