@@ -95,6 +95,7 @@ TEST(FastPath, IdenticalToReferenceWithFixedThresholds) {
   p.adaptive_threshold = false;
   p.culling = false;
   p.n_features = 400;
+  p.fast_path = true;
   FeatureParams ref = p;
   ref.fast_path = false;
   FeatureExtractor fx;
@@ -120,6 +121,7 @@ TEST(FastPath, SameKeypointsAsReferenceWithAdaptiveThresholds) {
   const cv::Mat enhanced = enhancer.enhance(img, EnhanceParams()).image;
   FeatureParams p;
   p.culling = false;
+  p.fast_path = true;
   FeatureParams ref = p;
   ref.fast_path = false;
   FeatureExtractor fx;
