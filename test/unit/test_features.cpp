@@ -158,8 +158,8 @@ TEST(Culling, FlatDarkRegionIsCulledTexturedRegionKept) {
   const CullScene s = makeCullScene();
   FeatureParams p;
   p.min_features = 0;
-  // The score's order is tested at s_min 0.4 (the default 0.75 is tuned on real sequences and culls the
-  // sparser ~20 % of this synthetic textured half too; test_features_real checks the default on EuRoC).
+  // The score's order at s_min 0.4 (s_min 0.75 also culls the sparser ~20 % of this synthetic textured half;
+  // test_features_real checks 0.75 on EuRoC).
   p.s_min = 0.4;
   const CullResult r = cullKeypoints(s.kps, {s.img}, s.img.size(), p);
   ASSERT_EQ(r.stability.size(), s.kps.size());
