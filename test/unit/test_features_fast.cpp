@@ -43,6 +43,16 @@ cv::Mat cornerRichImage() {
   return img;
 }
 
+// The frame of `img` on the fast path (first) and on the reference path (second), culling off.
+std::pair<FeatureFrame, FeatureFrame> bothPaths(const cv::Mat& img, FeatureParams p) {
+  p.culling = false;
+  FeatureExtractor fx;
+  p.fast_path = true;
+  FeatureFrame fast = fx.extract(img, 0, p);
+  p.fast_path = false;
+  return {fast, fx.extract(img, 0, p)};
+}
+
 }  // namespace
 
 TEST(Fast9, EqualsCvFastForOneThreshold) {
@@ -93,13 +103,9 @@ TEST(FastPath, IdenticalToReferenceWithFixedThresholds) {
   const cv::Mat img = cornerRichImage();
   FeatureParams p;
   p.adaptive_threshold = false;
-  p.culling = false;
   p.n_features = 400;
-  p.fast_path = true;
-  FeatureParams ref = p;
-  ref.fast_path = false;
-  FeatureExtractor fx;
-  const FeatureFrame a = fx.extract(img, 0, p), b = fx.extract(img, 0, ref);
+  const auto frames = bothPaths(img, p);
+  const FeatureFrame &a = frames.first, &b = frames.second;
   ASSERT_GT(a.keypoints.size(), 100u);
   ASSERT_EQ(a.keypoints.size(), b.keypoints.size());
   for (size_t i = 0; i < a.keypoints.size(); ++i) {
@@ -119,13 +125,8 @@ TEST(FastPath, SameKeypointsAsReferenceWithAdaptiveThresholds) {
   if (img.empty()) img = cornerRichImage();
   Enhancer enhancer;
   const cv::Mat enhanced = enhancer.enhance(img, EnhanceParams()).image;
-  FeatureParams p;
-  p.culling = false;
-  p.fast_path = true;
-  FeatureParams ref = p;
-  ref.fast_path = false;
-  FeatureExtractor fx;
-  const FeatureFrame a = fx.extract(enhanced, 0, p), b = fx.extract(enhanced, 0, ref);
+  const auto frames = bothPaths(enhanced, FeatureParams());
+  const FeatureFrame &a = frames.first, &b = frames.second;
   ASSERT_GT(b.keypoints.size(), 300u);
   const std::set<Corner> sa = cornerSet(a.keypoints), sb = cornerSet(b.keypoints);
   size_t common = 0;
