@@ -108,4 +108,63 @@ int otsuThreshold(const Histogram256& h) {
   return (t_o + t_last) / 2;
 }
 
+void CellThresholdEstimator::measureCells(const cv::Mat& img, const CellGrid& g, int center_window,
+                                          Histogram256* level_hist) {
+  otsu_.resize(g.cells());
+  center_.resize(g.cells());
+  const int hw = center_window / 2;
+  for (int i = 0; i < g.n_rows; ++i) {
+    const int y0 = g.y0(i), y1 = std::min(y0 + g.h_cell, g.max_y);
+    for (int j = 0; j < g.n_cols; ++j) {
+      const int x0 = g.x0(j), x1 = std::min(x0 + g.w_cell, g.max_x);
+      const int c = i * g.n_cols + j;
+      if (y1 <= y0 || x1 <= x0) {
+        otsu_[c] = 0;
+        center_[c] = 0;
+        continue;
+      }
+      Histogram256 h{};
+      accumulateHistogram(img(cv::Rect(x0, y0, x1 - x0, y1 - y0)), &h);
+      for (int b = 0; b < 256; ++b) (*level_hist)[b] += h[b];
+      otsu_[c] = otsuThreshold(h);  // eqs. (16)-(18): t_o of the subregion
+      // I_m of eq. (19). The paper uses the single centre pixel G(size/2, size/2); here the mean of a
+      // center_window^2 patch at the centre (center_window = 1 gives the paper's pixel), because one
+      // pixel makes F_t^l follow sensor noise.
+      const int cx = (x0 + x1) / 2, cy = (y0 + y1) / 2;
+      const cv::Rect win = cv::Rect(cx - hw, cy - hw, 2 * hw + 1, 2 * hw + 1) & cv::Rect(0, 0, img.cols, img.rows);
+      int sum = 0;
+      for (int r = win.y; r < win.y + win.height; ++r) {
+        const uint8_t* row = img.ptr<uint8_t>(r);
+        for (int x = win.x; x < win.x + win.width; ++x) sum += row[x];
+      }
+      center_[c] = static_cast<double>(sum) / win.area();
+    }
+  }
+}
+
+double CellThresholdEstimator::estimate(const cv::Mat& img, const CellGrid& g, const FeatureParams& p, bool level0,
+                                        FeatureStats* st, std::vector<double>* thresholds) {
+  thresholds->assign(g.cells(), static_cast<double>(p.ini_th_fast));
+  if (!p.adaptive_threshold) {
+    if (level0) st->global_threshold = p.ini_th_fast;
+    return p.min_th_fast;
+  }
+  Histogram256 level_hist{};
+  measureCells(img, g, p.center_window, &level_hist);
+  // The global metrics (eqs. 13-15) are computed once, on level 0 (the enhanced image, as in the paper):
+  // F_h over the detection area (the union of the level-0 cells), F_g over the whole image. Every level
+  // uses this F_t^g as the upper clip; the per-cell F_t^l adapts to each level.
+  if (level0) {
+    st->entropy = histogramEntropy(level_hist);                                          // eq. (13): F_h
+    st->gradient = meanGradientMagnitude(img, &dx_, &dy_, &mag_);                         // eq. (14): F_g
+    st->global_threshold = globalThreshold(st->entropy, st->gradient, p.alpha, p.beta);  // eq. (15): F_t^g
+  }
+  for (int c = 0; c < g.cells(); ++c) {
+    const double ft_l = localThreshold(center_[c], otsu_[c], p.delta);       // eq. (19): F_t^l
+    (*thresholds)[c] = clipThreshold(ft_l, p.ft_min, st->global_threshold);  // eq. (20): F_t
+  }
+  return p.ft_min;
+}
+
 }  // namespace iraf_vo
+

@@ -6,8 +6,10 @@
 // Images are loaded first; then, frame by frame (interleaved so machine load hits all variants alike):
 //   orb       cv::ORB::create(1000)->detectAndCompute
 //   all-off   our pipeline with every IRAF module off (no enhancement, fixed FAST 20/7, no culling)
-//   all-on    Enhancer (iraf) + FeatureExtractor (adaptive threshold + culling)
-// Prints the median ms per stage and the ratios all-on / orb and all-on / all-off.
+//   all-on    Enhancer (iraf) + FeatureExtractor (adaptive threshold + culling), fast detection path
+//   all-on, other path  the same with the other detection path (fast_path flipped)
+// Prints the median ms per stage (enhance, threshold, pyramid, FAST, distribution + rest, describe, cull) and the
+// ratios all-on / orb, all-on / all-off and reference / fast path.
 // --params: FeatureParams for all-on from the file's `features:` section (or its root map); all-off uses the
 // same params with adaptive_threshold and culling off.
 #include <yaml-cpp/yaml.h>
@@ -145,11 +147,13 @@ int main(int argc, char** argv) {
       return 1;
     }
   }
+  FeatureParams ref = on;  // the other detection path
+  ref.fast_path = !on.fast_path;
   FeatureParams off = on;
   off.adaptive_threshold = false;
   off.culling = false;
 
-  std::vector<double> t_orb, t_off, t_on, det_enh_fixed, det_raw_adapt, enh, thr, det, desc_ms, cull, det_off, n_orb, n_on, n_off, n_culled;
+  std::vector<double> t_ref, pyr, fast, t_orb, t_off, t_on, det_enh_fixed, det_raw_adapt, enh, thr, det, desc_ms, cull, det_off, n_orb, n_on, n_off, n_culled;
   std::vector<cv::KeyPoint> kps;
   cv::Mat desc;
   // Warm-up (allocations, page faults) on the first frame.
@@ -182,6 +186,11 @@ int main(int argc, char** argv) {
     cull.push_back(f_on.stats.ms_cull);
     n_on.push_back(static_cast<double>(f_on.keypoints.size()));
     n_culled.push_back(f_on.stats.culled);
+    pyr.push_back(f_on.stats.ms_pyramid);
+    fast.push_back(f_on.stats.ms_fast);
+    t0 = threadCpuMs();
+    fx_on.extract(enhancer.enhance(img, ep).image, 0, ref);
+    t_ref.push_back(threadCpuMsSince(t0));
     // Ablations (stage times only): enhancement with fixed thresholds; adaptive threshold on the raw image.
     det_enh_fixed.push_back(fx_off.extract(er.image, 0, off).stats.ms_detect);
     const FeatureFrame f_ra = fx_on.extract(img, 0, on);
@@ -195,17 +204,22 @@ int main(int argc, char** argv) {
   std::printf("  cv::ORB::create(1000)->detectAndCompute   %7.2f  (%.0f kp)\n", m_orb, median(n_orb));
   std::printf("  ours, all IRAF modules off                %7.2f  (%.0f kp; detect+describe %.2f)\n", m_off,
               median(n_off), median(det_off));
-  std::printf("  ours, all IRAF modules on (total)         %7.2f  (%.0f kp, %.0f culled)\n", m_on, median(n_on),
-              median(n_culled));
+  std::printf("  ours, all IRAF modules on (total)         %7.2f  (%.0f kp, %.0f culled; fast_path %s)\n", m_on,
+              median(n_on), median(n_culled), on.fast_path ? "true" : "false");
   std::printf("    enhance                                 %7.2f\n", median(enh));
   std::printf("    threshold (eqs. 13-20)                  %7.2f\n", median(thr));
   std::printf("    detect + describe                       %7.2f\n", median(det));
-  std::printf("      of which describe                     %7.2f\n", median(desc_ms));
+  std::printf("      of which pyramid                      %7.2f\n", median(pyr));
+  std::printf("      of which FAST (cell thresholds)       %7.2f\n", median(fast));
+  std::printf("      of which orientation + describe       %7.2f\n", median(desc_ms));
   std::printf("    cull (eqs. 21-23)                       %7.2f\n", median(cull));
+  std::printf("  ours, all on, fast_path %-5s (the other)  %7.2f  (ratio to cv::ORB %.2f)\n", ref.fast_path ? "true" : "false",
+              median(t_ref), median(t_ref) / m_orb);
   std::printf("ablation: detect+describe, enhanced image, fixed 20/7       %7.2f\n", median(det_enh_fixed));
   std::printf("ablation: threshold+detect+describe, raw image, adaptive  %7.2f\n", median(det_raw_adapt));
   std::printf("ratio all-on / cv::ORB   %.2f\n", m_on / m_orb);
   std::printf("ratio all-on / all-off   %.2f\n", m_on / m_off);
   std::printf("ratio all-off / cv::ORB  %.2f\n", m_off / m_orb);
+  std::printf("ratio all-on reference path / fast path  %.2f\n", on.fast_path ? median(t_ref) / m_on : m_on / median(t_ref));
   return 0;
 }

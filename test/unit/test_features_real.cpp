@@ -99,6 +99,35 @@ TEST(FeaturesReal, BaselineCountAndSpread) {
   EXPECT_GE(textured, 8);
 }
 
+TEST(FeaturesReal, CullingAt075RemovesAFewLowContrastKeypoints) {
+  // s_min 0.75 culls a few per cent of the keypoints on well-exposed EuRoC frames (the default 0.4 ~0.1 %),
+  // the low-contrast / sparse ones: their inlier rate in tracking is <= 0.5x the kept ones'
+  // (iraf_vo_culling_table, README). Here: the share, and that the culled ones have lower contrast H_c.
+  const cv::Mat img = loadEuroc("1403636604763555584.png");
+  if (img.empty()) GTEST_SKIP() << "EuRoC frame not found under " << kEuroc;
+  Enhancer enhancer;
+  const cv::Mat enhanced = enhancer.enhance(img, EnhanceParams()).image;
+  FeatureExtractor fx;
+  FeatureParams p;
+  p.s_min = 0.75;
+  CulledFeatures culled;
+  const FeatureFrame f = fx.extract(enhanced, 0, p, &culled);
+  std::printf("culling at s_min 0.75: %d of %d keypoints culled\n", f.stats.culled, f.stats.detected);
+  EXPECT_GE(f.stats.culled, 0.01 * f.stats.detected);
+  EXPECT_LE(f.stats.culled, 0.25 * f.stats.detected);
+  ASSERT_FALSE(culled.keypoints.empty());
+  auto mean_contrast = [&](const std::vector<cv::KeyPoint>& kps) {
+    double sum = 0.0;
+    for (const cv::KeyPoint& k : kps) {
+      const double inv = 1.0 / std::pow(p.scale_factor, k.octave);
+      sum += localContrast(fx.pyramid()[k.octave], static_cast<float>(k.pt.x * inv), static_cast<float>(k.pt.y * inv),
+                           p.contrast_patch_size);
+    }
+    return sum / kps.size();
+  };
+  EXPECT_LT(mean_contrast(culled.keypoints), 0.7 * mean_contrast(f.keypoints));
+}
+
 TEST(FeaturesReal, DarkImageLowersThresholdAndKeepsMoreThanFixed) {
   const cv::Mat img = loadEuroc("1403636604763555584.png");
   if (img.empty()) GTEST_SKIP() << "EuRoC frame not found under " << kEuroc;

@@ -35,6 +35,18 @@ TEST(FeatureTools, BenchRejectsBadInput) {
   EXPECT_NE(run(bench + " --bogus"), 0);
 }
 
+TEST(FeatureTools, CullingTableRejectsBadInput) {
+  const std::string table = tool("iraf_vo_culling_table");
+  if (!fs::exists(table)) GTEST_SKIP() << table << " not built";
+  EXPECT_NE(run(table), 0);
+  EXPECT_NE(run(table + " --dataset /nonexistent_iraf_dir"), 0);
+  EXPECT_NE(run(table + " --dataset /tmp --bins 0"), 0);
+  EXPECT_NE(run(table + " --dataset /tmp --set features.s_min=abc"), 0);
+  EXPECT_NE(run(table + " --dataset /tmp --set nosection"), 0);
+  EXPECT_NE(run(table + " --bogus"), 0);
+  EXPECT_EQ(run(table + " --help"), 0);
+}
+
 TEST(FeatureTools, KeypointCurveWritesCsv) {
   const std::string curve = tool("iraf_vo_keypoint_curve");
   if (!fs::exists(curve)) GTEST_SKIP() << curve << " not built";

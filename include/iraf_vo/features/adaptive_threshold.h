@@ -5,6 +5,11 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <vector>
+
+#include "iraf_vo/features/cell_grid.h"
+#include "iraf_vo/features/feature_frame.h"
+#include "iraf_vo/features/feature_params.h"
 
 namespace iraf_vo {
 
@@ -39,5 +44,24 @@ inline double clipThreshold(double ft_local, double ft_min, double ft_global) {
   const double hi = ft_global > ft_min ? ft_global : ft_min;
   return ft_local < ft_min ? ft_min : (ft_local > hi ? hi : ft_local);
 }
+
+/// The FAST threshold of every cell of a level: eq. (20) F_t per cell with adaptive_threshold on,
+/// ini_th_fast otherwise. Scratch buffers are kept between calls (no per-frame allocation).
+class CellThresholdEstimator {
+ public:
+  /// Fills *thresholds (row-major, grid.cells()) for `level`. On level 0 (level0 = true) also computes the
+  /// frame's global metrics F_h, F_g, F_t^g (eqs. 13-15) into *st, used as the upper clip of every level.
+  /// Returns the retry threshold for cells where F_t finds nothing (ft_min, or min_th_fast when off).
+  double estimate(const cv::Mat& level, const CellGrid& grid, const FeatureParams& p, bool level0, FeatureStats* st,
+                  std::vector<double>* thresholds);
+
+ private:
+  /// Otsu t_o (eqs. 16-18) and I_m (eq. 19) of every cell; adds the cells' histograms to *level_hist.
+  void measureCells(const cv::Mat& level, const CellGrid& grid, int center_window, Histogram256* level_hist);
+
+  std::vector<int> otsu_;
+  std::vector<double> center_;
+  cv::Mat dx_, dy_, mag_;
+};
 
 }  // namespace iraf_vo

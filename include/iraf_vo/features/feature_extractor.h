@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "iraf_vo/features/adaptive_threshold.h"
+#include "iraf_vo/features/cell_fast_detector.h"
 #include "iraf_vo/features/feature_culling.h"
 #include "iraf_vo/features/feature_frame.h"
 #include "iraf_vo/features/feature_params.h"
@@ -45,13 +46,29 @@ class FeatureExtractor {
   static void buildPyramid(const cv::Mat& gray8, double scale_factor, int n_levels, std::vector<cv::Mat>* pyramid);
 
  private:
+  // The steps of extract(), in order.
+  static void checkInput(const cv::Mat& gray8, const FeatureParams& p);
+  /// Cell thresholds (eqs. 13-20), per-cell FAST and the quad-tree distribution of level l into
+  /// level_kps_[l] (level coordinates, octave = l).
+  void detectLevel(int l, int quota, const FeatureParams& p, FeatureStats* st);
+  /// Scores every detected keypoint (eqs. 21-23) and decides which are kept.
+  CullResult cull(const cv::Size& image_size, const FeatureParams& p, FeatureStats* st);
+  /// Orientation (intensity centroid) and rotated-BRIEF descriptors of the kept keypoints only, level by
+  /// level, into frame; the culled ones (oriented) go to *culled when given.
+  void describeKept(const CullResult& cr, const FeatureParams& p, FeatureFrame* frame, CulledFeatures* culled);
+  /// Min / median / max of the thresholds of all scanned cells.
+  void summarizeCellThresholds(FeatureStats* st);
+
   std::vector<cv::Mat> pyramid_;
-  cv::Mat level0_, dx_, dy_, mag_, desc_;
-  std::vector<double> thresholds_, center_;
-  std::vector<int> otsu_, cell_th_, cell_count_, sorted_th_;
-  std::vector<cv::KeyPoint> strip_kps_;
+  cv::Mat level0_, desc_;
+  CellThresholdEstimator threshold_estimator_;
+  CellFastDetector fast_detector_;
+  std::vector<double> thresholds_, cell_thresholds_;
+  std::vector<std::vector<cv::KeyPoint>> level_kps_;  // distributed keypoints per level (level coordinates)
+  std::vector<cv::KeyPoint> all_kps_;                 // the same, concatenated, level-0 coordinates
+  std::vector<cv::KeyPoint> candidates_, level_batch_;
+  std::vector<size_t> batch_index_;
   cv::Ptr<cv::ORB> orb_;  // descriptor computation only (rotated BRIEF), one level at a time
-  std::vector<int> umax_;
 };
 
 }  // namespace iraf_vo

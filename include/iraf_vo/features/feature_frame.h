@@ -25,8 +25,10 @@ struct FeatureStats {
   int cells = 0;                     // FAST cells over all levels
   int cells_retried = 0;             // cells where F_t found nothing and the retry threshold ran
   int candidates = 0;                // FAST corners before the quad-tree distribution
-  int brightness = 0;
-  double ms_describe = 0.0;          // part of ms_detect: orientation-free descriptor computation                // enhancement class of the input (BrightnessClass) if known, else 0
+  int brightness = 0;                // enhancement class of the input (BrightnessClass) if known, else 0
+  double ms_describe = 0.0;          // part of ms_detect: orientation + descriptors of the kept keypoints
+  double ms_pyramid = 0.0;           // part of ms_detect: level-0 copy + pyramid
+  double ms_fast = 0.0;              // part of ms_detect: FAST with the cell thresholds (+ retries)
 };
 
 struct FeatureFrame {

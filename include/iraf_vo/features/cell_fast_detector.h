@@ -1,0 +1,49 @@
+// FAST-9 corners of one pyramid level with a threshold per cell (ORB-SLAM's cell grid; the thresholds of the
+// adaptive FAST threshold, eq. 20, or the fixed ini_th_fast) and the empty-cell retry. ROS-free.
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "iraf_vo/features/cell_grid.h"
+#include "iraf_vo/features/fast9.h"
+#include "iraf_vo/features/feature_frame.h"
+
+namespace iraf_vo {
+
+class CellFastDetector {
+ public:
+  /// Appends to *candidates (level coordinates; response = FAST score, class_id = the threshold that
+  /// admitted the corner) the FAST corners (non-max suppressed) of every cell of `level` whose score is
+  /// >= that cell's threshold; cells without any get the corners with score >= retry_th. The threshold of
+  /// every scanned cell is appended to *cell_thresholds; st->cells / cells_retried are counted.
+  /// one_pass: each row of cells in one FAST pass with per-column thresholds (fast path); false: the
+  /// reference path, cv::FAST per strip at a strip threshold plus runs of lower-threshold cells.
+  void detect(const cv::Mat& level, const CellGrid& grid, const std::vector<double>& thresholds, double retry_th,
+              bool one_pass, std::vector<cv::KeyPoint>* candidates, std::vector<double>* cell_thresholds,
+              FeatureStats* st);
+
+ private:
+  /// One row of cells: the corners at the cells' thresholds, then the retries of empty cells.
+  void detectCellRow(const cv::Mat& level, const CellGrid& grid, int row, int th_retry, bool one_pass,
+                     std::vector<cv::KeyPoint>* candidates, FeatureStats* st);
+  /// Fast path: detectFast9 over the strip with every column at its cell's threshold.
+  void scanStripOnePass(const cv::Mat& strip, const CellGrid& grid, int ini_y, std::vector<cv::KeyPoint>* candidates);
+  /// Reference path: cv::FAST over the strip at t_strip, then per run of cells below t_strip.
+  void scanStripAndRuns(const cv::Mat& level, const cv::Mat& strip, const CellGrid& grid, int ini_y, int max_y,
+                        int t_strip, std::vector<cv::KeyPoint>* candidates);
+  /// Empty cells (where retry_th < their threshold) rescanned at retry_th; from the strip scan when it ran at
+  /// t_strip <= retry_th.
+  void retryEmptyCells(const cv::Mat& level, const CellGrid& grid, int ini_y, int max_y, int th_retry, int t_strip,
+                       std::vector<cv::KeyPoint>* candidates, FeatureStats* st);
+  /// The strip threshold T_s minimising the cost model of cv::FAST (see the .cpp) over the sorted cell
+  /// thresholds of a row.
+  static int stripThreshold(const std::vector<int>& sorted_th, int n_valid);
+
+  std::vector<int> cell_th_, cell_count_, sorted_th_;
+  std::vector<cv::KeyPoint> strip_kps_, cell_kps_;
+  std::vector<uint8_t> col_th_;
+  Fast9Buffers fast9_buffers_;
+};
+
+}  // namespace iraf_vo

@@ -1,0 +1,27 @@
+// FAST-9 corner detection (16-pixel Bresenham circle of radius 3) with a threshold per image COLUMN, so one
+// pass over a row of cells applies every cell's own threshold (paper eq. 20) instead of one cv::FAST call per
+// threshold. Same test, score and 3x3 non-max suppression as cv::FAST. ROS-free.
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <cstdint>
+#include <vector>
+
+namespace iraf_vo {
+
+/// Scratch rows reused between calls (no per-call allocation once grown).
+struct Fast9Buffers {
+  std::vector<uint8_t> score[3];
+  std::vector<int> corners[3];
+};
+
+/// Replaces *keypoints by the FAST-9 corners of `img` (CV_8UC1, may be an ROI): pixel (x, y), 3 <= x < cols - 3,
+/// 3 <= y < rows - 3, is a corner iff >= 9 contiguous circle pixels are all > I + col_threshold[x] or all
+/// < I - col_threshold[x]. response = score = the largest threshold at which the pixel is still a corner
+/// (cv::FAST's score); a corner is kept iff its score is > the score of every 8-neighbour that is a corner
+/// (at that neighbour's own column threshold). Row-major order, like cv::FAST. col_threshold has img.cols
+/// entries >= 1. With one threshold for every column the result equals cv::FAST(img, kps, t, true).
+void detectFast9(const cv::Mat& img, const uint8_t* col_threshold, std::vector<cv::KeyPoint>* keypoints,
+                 Fast9Buffers* buffers);
+
+}  // namespace iraf_vo

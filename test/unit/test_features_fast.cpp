@@ -1,0 +1,138 @@
+// The fast detection path (FeatureParams::fast_path, detectFast9) against cv::FAST and the reference path:
+// same corners, scores and keypoints where they must be the same. Speed is measured by iraf_vo_bench_frontend.
+#include <gtest/gtest.h>
+
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <cstdio>
+#include <set>
+#include <string>
+#include <utility>
+
+#include "common/test_data.h"
+#include "iraf_vo/enhance/enhancer.h"
+#include "iraf_vo/features/fast9.h"
+#include "iraf_vo/features/feature_extractor.h"
+
+using namespace iraf_vo;
+
+namespace {
+
+using Corner = std::pair<std::pair<int, int>, int>;  // ((x, y), score)
+
+std::set<Corner> cornerSet(const std::vector<cv::KeyPoint>& kps, int x_begin = 0, int x_end = 1 << 30) {
+  std::set<Corner> s;
+  for (const cv::KeyPoint& k : kps) {
+    const int x = cvRound(k.pt.x);
+    if (x >= x_begin && x < x_end) s.insert({{x, cvRound(k.pt.y)}, cvRound(k.response)});
+  }
+  return s;
+}
+
+// Noise, blobs and a gradient: corners of every score from 1 to > 100, and saturated areas.
+cv::Mat cornerRichImage() {
+  cv::Mat img = iraf_vo_test::texturedImage(333, 211);
+  cv::Mat noise(img.size(), CV_8U);
+  cv::RNG rng(7);
+  rng.fill(noise, cv::RNG::UNIFORM, 0, 60);
+  cv::add(img, noise, img);
+  cv::rectangle(img, cv::Rect(20, 20, 40, 30), cv::Scalar(255), cv::FILLED);
+  cv::rectangle(img, cv::Rect(200, 150, 50, 40), cv::Scalar(0), cv::FILLED);
+  return img;
+}
+
+// The frame of `img` on the fast path (first) and on the reference path (second), culling off.
+std::pair<FeatureFrame, FeatureFrame> bothPaths(const cv::Mat& img, FeatureParams p) {
+  p.culling = false;
+  FeatureExtractor fx;
+  p.fast_path = true;
+  FeatureFrame fast = fx.extract(img, 0, p);
+  p.fast_path = false;
+  return {fast, fx.extract(img, 0, p)};
+}
+
+}  // namespace
+
+TEST(Fast9, EqualsCvFastForOneThreshold) {
+  const cv::Mat img = cornerRichImage();
+  Fast9Buffers buf;
+  for (int t : {1, 5, 7, 12, 20, 40, 90}) {
+    std::vector<cv::KeyPoint> ref, ours;
+    cv::FAST(img, ref, t, true);
+    const std::vector<uint8_t> th(img.cols, static_cast<uint8_t>(t));
+    detectFast9(img, th.data(), &ours, &buf);
+    ASSERT_FALSE(ref.empty()) << "t = " << t;
+    ASSERT_EQ(ours.size(), ref.size()) << "t = " << t;
+    for (size_t i = 0; i < ref.size(); ++i) {  // same order, positions and scores
+      EXPECT_EQ(ours[i].pt, ref[i].pt) << "t = " << t << " corner " << i;
+      EXPECT_EQ(ours[i].response, ref[i].response) << "t = " << t << " corner " << i;
+    }
+  }
+  // An ROI (non-contiguous rows) and an image narrower than one SIMD block.
+  const cv::Mat roi = img(cv::Rect(13, 9, 150, 60)), narrow = img(cv::Rect(0, 0, 18, 50)).clone();
+  for (const cv::Mat& m : {roi, narrow}) {
+    std::vector<cv::KeyPoint> ref, ours;
+    cv::FAST(m, ref, 9, true);
+    const std::vector<uint8_t> th(m.cols, 9);
+    detectFast9(m, th.data(), &ours, &buf);
+    EXPECT_EQ(cornerSet(ours), cornerSet(ref));
+  }
+}
+
+TEST(Fast9, PerColumnThresholdIsCvFastOfEachColumnRange) {
+  // Left half at 8, right half at 30: away from the border column (where non-max suppression looks at the
+  // other half's corners) the corners are cv::FAST's at that half's threshold.
+  const cv::Mat img = cornerRichImage();
+  const int split = 160;
+  std::vector<uint8_t> th(img.cols, 8);
+  for (int x = split; x < img.cols; ++x) th[x] = 30;
+  Fast9Buffers buf;
+  std::vector<cv::KeyPoint> ours, lo, hi;
+  detectFast9(img, th.data(), &ours, &buf);
+  cv::FAST(img, lo, 8, true);
+  cv::FAST(img, hi, 30, true);
+  const std::set<Corner> left = cornerSet(lo, 0, split - 1), right = cornerSet(hi, split + 1);
+  EXPECT_EQ(cornerSet(ours, 0, split - 1), left);
+  EXPECT_EQ(cornerSet(ours, split + 1), right);
+  EXPECT_GT(left.size(), 2 * right.size()) << "the lower threshold must find more corners";
+}
+
+TEST(FastPath, IdenticalToReferenceWithFixedThresholds) {
+  const cv::Mat img = cornerRichImage();
+  FeatureParams p;
+  p.adaptive_threshold = false;
+  p.n_features = 400;
+  const auto frames = bothPaths(img, p);
+  const FeatureFrame &a = frames.first, &b = frames.second;
+  ASSERT_GT(a.keypoints.size(), 100u);
+  ASSERT_EQ(a.keypoints.size(), b.keypoints.size());
+  for (size_t i = 0; i < a.keypoints.size(); ++i) {
+    EXPECT_EQ(a.keypoints[i].pt, b.keypoints[i].pt);
+    EXPECT_EQ(a.keypoints[i].response, b.keypoints[i].response);
+    EXPECT_EQ(a.keypoints[i].class_id, b.keypoints[i].class_id);
+  }
+  EXPECT_EQ(cv::norm(a.descriptors, b.descriptors, cv::NORM_L1), 0.0);
+  EXPECT_EQ(a.stats.candidates, b.stats.candidates);
+}
+
+TEST(FastPath, SameKeypointsAsReferenceWithAdaptiveThresholds) {
+  // Per-cell thresholds: the paths differ only by non-max suppression across the ROI border of a run of
+  // low-threshold cells (reference), so nearly all candidates and keypoints coincide.
+  const std::string euroc = std::string(IRAF_VO_SHARED_DIR) + "/data/euroc_mh01_600/mav0/cam0/data/1403636584763555584.png";
+  cv::Mat img = cv::imread(euroc, cv::IMREAD_GRAYSCALE);
+  if (img.empty()) img = cornerRichImage();
+  Enhancer enhancer;
+  const cv::Mat enhanced = enhancer.enhance(img, EnhanceParams()).image;
+  const auto frames = bothPaths(enhanced, FeatureParams());
+  const FeatureFrame &a = frames.first, &b = frames.second;
+  ASSERT_GT(b.keypoints.size(), 300u);
+  const std::set<Corner> sa = cornerSet(a.keypoints), sb = cornerSet(b.keypoints);
+  size_t common = 0;
+  for (const Corner& c : sa) common += sb.count(c);
+  std::printf("fast path: %zu of %zu keypoints identical, candidates %d vs %d\n", common, sb.size(), a.stats.candidates, b.stats.candidates);
+  EXPECT_GE(common, 0.95 * sb.size()) << common << " of " << sb.size();
+  EXPECT_NEAR(a.stats.candidates, b.stats.candidates, 0.01 * b.stats.candidates);
+  EXPECT_EQ(a.stats.cells, b.stats.cells);
+}
