@@ -75,7 +75,8 @@ struct Tracker::Impl {
   bool initializeMap(Frame& cur, TrackResult* res);
   bool trackWithMotionModel(Frame& cur, TrackResult* res);
   Eigen::Matrix<double, 6, 6> initialPoseInformation(const Frame& cur) const;
-  std::string checkHealth(const Frame& cur, const PoseTrackingResult& r);
+  std::string checkHealth(const Frame& cur, const PoseTrackingResult& r, const Eigen::Isometry3d& T_last,
+                          const Eigen::Isometry3d& T_predicted);
   void insertKeyframeIfNeeded(const Frame& cur, TrackResult* res);
   void handleLostFrame(const Frame& cur);
   void resetMap();
@@ -201,11 +202,12 @@ bool Tracker::Impl::trackWithMotionModel(Frame& cur, TrackResult* res) {
   res->inlier_ratio = r.refine_matches > 0 ? static_cast<double>(r.inliers) / r.refine_matches : 0.0;
   res->median_chi2 = r.median_chi2;
   res->covariance = worldPoseCovariance(r.information, cur.T_c_w);
-  res->rejected = checkHealth(cur, r);
+  res->rejected = checkHealth(cur, r, T_last, T_predicted);
   if (!res->rejected.empty()) {
     updateStats([](TrackerStats& s) { s.rejected++; });
     return false;
   }
+  health.accept(T_last.inverse(), cur.T_c_w.inverse());
   if (r.has_median_depth) last_median_depth = r.median_depth;
   if (last_kf_id >= 0) {  // velocity from the (possibly BA-updated) last pose
     velocity = cur.T_c_w * T_last.inverse();
@@ -215,12 +217,16 @@ bool Tracker::Impl::trackWithMotionModel(Frame& cur, TrackResult* res) {
   return true;
 }
 
-std::string Tracker::Impl::checkHealth(const Frame& cur, const PoseTrackingResult& r) {
+std::string Tracker::Impl::checkHealth(const Frame& cur, const PoseTrackingResult& r, const Eigen::Isometry3d& T_last,
+                                       const Eigen::Isometry3d& T_predicted) {
   HealthInput in;
   in.inliers = r.inliers;
   in.refine_matches = r.refine_matches;
   in.median_chi2 = r.median_chi2;
   in.T_w_c = cur.T_c_w.inverse();
+  in.have_motion_model = have_velocity;
+  in.T_w_last = T_last.inverse();
+  in.T_w_predicted = T_predicted.inverse();
   in.median_depth = r.has_median_depth ? r.median_depth : last_median_depth;
   in.ba_scale_change = mapper.takeScaleChange();
   in.duplicate_of_last = cur.size() == last.size() && cur.size() > 0 &&
@@ -284,7 +290,6 @@ void Tracker::Impl::onTracked(const Frame& cur, TrackResult* res, bool is_keyfra
   for (size_t i = 0; i < cur.point_id.size(); ++i) res->keypoint_inlier[i] = cur.point_id[i] >= 0;
   last_good_T_w_c = res->T_w_c;
   have_last_good = true;
-  health.accept(res->T_w_c);
   last = cur;
   Eigen::Isometry3d T_kf;
   last_ref_kf = map.keyframePose(last_kf_id, &T_kf) ? last_kf_id : -1;

@@ -89,7 +89,7 @@ const ParamTable<TrackerParams>& trackerParamTable() {
           doubleParam("health_max_accel_ratio", &P::health_max_accel_ratio, 0.1, 100.0,
                       "Velocity / rotation-rate change limit, x the median of the last frames"),
           doubleParam("health_min_accel_depth", &P::health_min_accel_depth, 0.0, 10.0,
-                      "Velocity change floor, x the median scene depth"),
+                      "Motion-model deviation floor, x the median scene depth"),
           doubleParam("health_max_rot_accel_deg", &P::health_max_rot_accel_deg, 0.1, 180.0,
                       "Rotation-rate change floor [deg / frame]"),
           doubleParam("health_max_ba_scale_change", &P::health_max_ba_scale_change, 1.01, 100.0,

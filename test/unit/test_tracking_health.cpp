@@ -235,17 +235,26 @@ TEST(TrackingHealth, MonitorChecksInIsolation) {
   EXPECT_NE(m.check(in).find("scale"), std::string::npos);
   in.ba_scale_change = 1.1;
   EXPECT_EQ(m.check(in), "");
-  // Constant velocity 0.1 / frame at depth 5: a step of 0.1 passes, a reversal is a jump.
-  for (int k = 0; k < 5; ++k) {
+  // Constant velocity 0.1 / frame at depth 5: a step as predicted passes, a reversal or a leap is a jump.
+  auto at = [](double x) {
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.translation().x() = 0.1 * k;
-    m.accept(T);
-  }
+    T.translation().x() = x;
+    return T;
+  };
+  for (int k = 0; k < 5; ++k) m.accept(at(0.1 * k), at(0.1 * (k + 1)));
   in.median_depth = 5.0;
-  in.T_w_c.translation().x() = 0.5;
+  in.have_motion_model = true;
+  in.T_w_last = at(0.5);
+  in.T_w_predicted = at(0.6);
+  in.T_w_c = at(0.61);
   EXPECT_EQ(m.check(in), "");
-  in.T_w_c.translation().x() = 0.3;
+  in.T_w_c = at(0.4);
+  EXPECT_NE(m.check(in).find("reversed"), std::string::npos);
+  in.T_w_c = at(1.2);
   EXPECT_NE(m.check(in).find("jump"), std::string::npos);
+  in.have_motion_model = false;
+  EXPECT_EQ(m.check(in), "") << "no motion model (after a loss): no motion checks";
+  in.have_motion_model = true;
   p.health_monitor = false;
   EXPECT_EQ(m.check(in), "") << "off: never fires";
 }

@@ -5,16 +5,17 @@
 //   inlier ratio    inliers / matches of the final pose refinement < health_min_inlier_ratio
 //   reprojection    median chi2 (sigma-normalized squared error) of the inliers > health_max_median_chi2
 //   duplicate       the frame's keypoints and descriptors equal the last frame's while the camera was moving
-//   motion model    the change of the per-frame camera velocity (centre displacement) exceeds
-//                   health_max_accel_ratio * (median speed of the last frames) + health_min_accel_depth *
-//                   (median scene depth), or the change of the per-frame rotation exceeds
-//                   health_max_rot_accel_deg + health_max_accel_ratio * (median rotation rate), or the
-//                   camera reverses its direction within one frame while faster than a quarter of that floor
+//   motion model    the pose differs from the constant-velocity prediction (made from the last frame's pose
+//                   after any BA correction) by more than health_max_accel_ratio * (median per-frame speed of
+//                   the last frames) + health_min_accel_depth * (median scene depth), or the rotation differs
+//                   from the predicted one by more than health_max_rot_accel_deg + health_max_accel_ratio *
+//                   (median per-frame rotation), or the camera reverses its direction against the motion model
+//                   while both move faster than a quarter of that floor
 //                   (swapped frames, a frame from another place, a jump of the camera)
 //   map scale       the last local BA changed the window's extent by more than a factor health_max_ba_scale_change
 //                   (tracking and local BA disagree on the scale)
-// The motion history restarts after every loss or (re-)initialization: the first two frames after it are only
-// checked for inliers and reprojection.
+// The motion history restarts after every loss or (re-)initialization: until the motion model exists again
+// (two tracked frames) a frame is only checked for inliers and reprojection.
 #pragma once
 
 #include <iraf_vo/tracking/tracker_params.h>
@@ -32,7 +33,10 @@ struct HealthInput {
   double median_chi2 = 0.0;    // of the inliers
   bool duplicate_of_last = false;
   double ba_scale_change = 1.0;  // window extent after / before the newest local BA (1 = none since last frame)
-  Eigen::Isometry3d T_w_c = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d T_w_c = Eigen::Isometry3d::Identity();        // the tracked pose
+  bool have_motion_model = false;
+  Eigen::Isometry3d T_w_last = Eigen::Isometry3d::Identity();     // last frame (after BA corrections)
+  Eigen::Isometry3d T_w_predicted = Eigen::Isometry3d::Identity();  // constant-velocity prediction
   double median_depth = 1.0;
 };
 
@@ -41,19 +45,16 @@ class TrackingHealthMonitor {
   explicit TrackingHealthMonitor(const TrackerParams& params) : p_(params) {}
   /// "" when the pose can be trusted, else why not (one line).
   std::string check(const HealthInput& in) const;
-  /// Records an accepted pose (the motion model's history).
-  void accept(const Eigen::Isometry3d& T_w_c);
+  /// Records the motion of an accepted frame (from the last frame to it).
+  void accept(const Eigen::Isometry3d& T_w_last, const Eigen::Isometry3d& T_w_c);
   /// Forgets the motion history (after a loss, a relocalization or a new map).
-  void restart() { poses_.clear(); }
+  void restart() { speeds_.clear(), rotations_deg_.clear(); }
   /// True when the camera moved noticeably in the last frames (duplicate-frame test).
   bool moving(double median_depth) const;
 
  private:
-  double medianSpeed() const;
-  double medianRotationDeg() const;
-
   const TrackerParams& p_;
-  std::deque<Eigen::Isometry3d> poses_;  // accepted T_w_c, newest last (at most 6)
+  std::deque<double> speeds_, rotations_deg_;  // per-frame motion of the last accepted frames (at most 5)
 };
 
 }  // namespace iraf_vo

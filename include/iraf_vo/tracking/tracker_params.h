@@ -66,7 +66,7 @@ struct TrackerParams {
   double health_min_inlier_ratio = 0.5;    // inliers / matches of the final pose refinement
   double health_max_median_chi2 = 3.0;     // median sigma-normalized squared reprojection error of the inliers
   double health_max_accel_ratio = 2.0;     // velocity change limit, x the median speed of the last frames
-  double health_min_accel_depth = 0.01;    // velocity change floor, x the median scene depth
+  double health_min_accel_depth = 0.02;    // motion-model deviation floor, x the median scene depth
   double health_max_rot_accel_deg = 3.0;   // rotation-rate change floor [deg / frame]
   double health_max_ba_scale_change = 1.5; // local BA may change the window's extent by at most this factor
 };
