@@ -125,7 +125,6 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "iraf_vo_culling_table: %s: %s\n", reader.sensorYamlPath().c_str(), err.c_str());
     return 1;
   }
-  tp.scale_factor = fp.scale_factor;
   iraf_vo::FeatureParams extract_params = fp;  // every keypoint reaches the tracker
   extract_params.culling = apply_culling && fp.culling;
   iraf_vo::FeatureParams score_params = fp;    // S exactly as culling computes it

@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# One benchmark run for speed (issue 12): front-end stages and the ratio to cv::ORB (one thread, thread CPU time),
+# then the whole offline VO per mode: CPU ms per frame over all threads (PNG decoding included), per-stage medians,
+# local-BA runs with ms per run and amortised per frame, wall fps, tracked %, ATE and peak RSS.
+# Speed targets live here, not in tests: the script prints the measured values next to the targets.
+#
+#   scripts/bench.sh [--dataset ASL_DIR] [--frames N] [--frontend-frames N] [--modes "iraf baseline"] [--threaded|--sync]
+#
+# Default dataset: ../shared/data/euroc_mh01_600 beside the checkout (frames 0-305, the moving part). Needs a build
+# (scripts/setup.sh). Run it on an idle machine: wall-clock numbers (fps) depend on the load, CPU ms much less.
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+repo="$(cd "$here/.." && pwd)"
+bin="${IRAF_VO_BUILD_DIR:-$repo/build}/devel/lib/iraf_vo"
+dataset="$repo/../shared/data/euroc_mh01_600"
+frames=306
+fe_frames=200
+modes="iraf baseline"
+mapping=""
+while [[ $# -gt 0 ]]; do
+  case "$1" in
+    -h|--help) sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --dataset) dataset="$2"; shift 2 ;;
+    --frames) frames="$2"; shift 2 ;;
+    --frontend-frames) fe_frames="$2"; shift 2 ;;
+    --modes) modes="$2"; shift 2 ;;
+    --threaded) mapping=""; shift ;;
+    --sync) mapping="--set tracker.mapping_thread=false"; shift ;;
+    *) echo "bench.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
+  esac
+done
+[[ -x "$bin/iraf_vo_run" && -x "$bin/iraf_vo_bench_frontend" ]] || { echo "bench.sh: no build in $bin (run scripts/setup.sh)" >&2; exit 2; }
+[[ -f "$dataset/mav0/cam0/data.csv" ]] || { echo "bench.sh: $dataset is not an ASL folder" >&2; exit 2; }
+out="$(mktemp -d /tmp/iraf_vo_bench.XXXXXX)"
+echo "== machine: $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg); dataset $dataset"
+echo "== front-end (one thread, thread CPU time, median per frame): target ratio <= 1.0 x cv::ORB(1000)"
+"$bin/iraf_vo_bench_frontend" --dataset "$dataset" --frames "$fe_frames" | tee "$out/frontend.txt"
+gt="$dataset/groundtruth/groundtruth_tum_cam0.txt"
+[[ -f "$gt" ]] || gt="$dataset/mav0/state_groundtruth_estimate0/data.csv"
+for mode in $modes; do
+  echo "== whole VO, mode $mode, frames 0-$((frames - 1)) ${mapping:+(synchronous mapping)}: target <= 10 CPU ms per frame"
+  args=(--dataset "$dataset" --frames "$frames" --mode "$mode" --out "$out/$mode.txt" --stats "$out/$mode.json" --quiet)
+  [[ -f "$gt" ]] && args+=(--gt "$gt")
+  # shellcheck disable=SC2086
+  /usr/bin/time -v "$bin/iraf_vo_run" "${args[@]}" $mapping >"$out/$mode.log" 2>"$out/$mode.time"
+  cat "$out/$mode.log"
+  /usr/bin/python3 - "$out/$mode.log" "$out/$mode.time" "$frames" <<'PY'
+import re, sys
+log = open(sys.argv[1]).read(); tim = open(sys.argv[2]).read(); frames = int(sys.argv[3])
+cpu = re.search(r"= ([0-9.]+) ms/frame", log); ba = re.search(r"BA runs (\d+) \(mean ([0-9.]+) ms\)", log)
+rss = re.search(r"Maximum resident set size \(kbytes\): (\d+)", tim)
+fps = re.search(r"wall [0-9.]+ s, ([0-9.]+) fps", log)
+print("summary: CPU %s ms/frame (target <= 10) | wall %s fps (target >= 150 on an idle 2-core machine)" %
+      (cpu.group(1) if cpu else "?", fps.group(1) if fps else "?"))
+if ba:
+    n, ms = int(ba.group(1)), float(ba.group(2))
+    print("summary: local BA %d runs x %.1f ms = %.2f ms per frame amortised" % (n, ms, n * ms / max(frames, 1)))
+print("summary: peak RSS %.1f MiB" % (int(rss.group(1)) / 1024.0 if rss else float("nan")))
+PY
+done
+echo "== outputs in $out"
