@@ -3,6 +3,7 @@
 // under a mutex, copied per frame), and lazy subscription: inputs are subscribed only while an output has listeners.
 #pragma once
 
+#include <diagnostic_updater/diagnostic_updater.h>
 #include <dynamic_reconfigure/server.h>
 #include <image_transport/image_transport.h>
 #include <nodelet/nodelet.h>
@@ -12,9 +13,24 @@
 #include <memory>
 #include <mutex>
 
+#include "iraf_vo/pipeline/run_monitor.h"
 #include "param_bridge.h"
 
 namespace iraf_vo {
+
+/// A ROS-free HealthReport into a /diagnostics status.
+inline void fillDiagnostics(const HealthReport& r, diagnostic_updater::DiagnosticStatusWrapper& d) {
+  d.summary(static_cast<unsigned char>(r.level), r.summary);
+  for (const auto& kv : r.values) d.add(kv.first, kv.second);
+}
+
+/// A diagnostic_updater named after the nodelet (status "<nodelet>: <task>"), hardware id "iraf_vo".
+inline std::shared_ptr<diagnostic_updater::Updater> makeUpdater(ros::NodeHandle& nh,
+                                                                ros::NodeHandle& pnh, const std::string& name) {
+  auto u = std::make_shared<diagnostic_updater::Updater>(nh, pnh, name.substr(name.rfind('/') + 1));
+  u->setHardwareID("iraf_vo");
+  return u;
+}
 
 template <class Params, class Config>
 class StageNodelet : public nodelet::Nodelet {
