@@ -11,7 +11,6 @@
 #include <tf2_ros/transform_listener.h>
 
 #include <algorithm>
-#include <map>
 #include <pluginlib/class_list_macros.hpp>
 
 #include "iraf_vo/Features.h"
@@ -80,14 +79,11 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     updater_ = makeUpdater(nh, pnh, getName());
     updater_->add("tracking", this, &TrackerNodelet::diagnose);
     startReconfigure();  // its first callback: the startup values
-    if (!camera_file.empty() && !camera_src_.loadFile(camera_file)) {
-      NODELET_ERROR("tracker: %s; not tracking", camera_src_.reason().c_str());
-    } else if (camera_file.empty()) {
-      camera_src_.useCameraInfo(nh.resolveName("camera_info"), info_opts);
-      info_sub_ = nh.subscribe("camera_info", 2, &TrackerNodelet::infoCb, this);
-      NODELET_INFO("tracker: ~camera_file is empty: calibration from %s", nh.resolveName("camera_info").c_str());
-    }
-    if (CameraModelPtr cam = camera_src_.camera()) startSession(cam, "camera " + cam->describe());
+    camera_src_.start(nh, camera_file, info_opts, [this](CameraSource::Event e, const std::string& text) {
+      if (e == CameraSource::Event::kInvalid) NODELET_ERROR("tracker: %s", text.c_str());
+      if (e == CameraSource::Event::kChanged) NODELET_WARN("tracker: %s: restarting the tracker (new map)", text.c_str());
+      if (e != CameraSource::Event::kInvalid) startSession(camera_src_.camera(), text);
+    });
     timer_ = nh.createWallTimer(ros::WallDuration(1.0), &TrackerNodelet::timerCb, this);
     sub_ = nh.subscribe("features", queue_size, &TrackerNodelet::featuresCb, this);
   }
@@ -98,15 +94,6 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     session_ = std::make_unique<TrackingSession>(cam, params(), opts_);
     odom_out_.reset();
     path_ = nav_msgs::Path();
-  }
-
-  void infoCb(const sensor_msgs::CameraInfoConstPtr& msg) {
-    std::string text;
-    const CameraSource::Event e = camera_src_.onCameraInfo(*msg, &text);
-    if (e == CameraSource::Event::kInvalid) NODELET_ERROR("tracker: %s", text.c_str());
-    if (e == CameraSource::Event::kChanged) NODELET_WARN("tracker: %s: restarting the tracker (new map)", text.c_str());
-    if (e == CameraSource::Event::kConfigured || e == CameraSource::Event::kChanged)
-      startSession(camera_src_.camera(), text);
   }
 
   // Without a calibration: tracking_status with the reason at 1 Hz. Always: /diagnostics.
@@ -121,14 +108,10 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
 
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& d) {
     std::lock_guard<std::mutex> lock(mutex_);
-    const double now = ros::WallTime::now().toSec();
     const CameraModelPtr cam = camera_src_.camera();
-    const TrackerHealthInput in{camera_src_.reason(), cam ? cam->describe() : "", last_state_,
-                                session_ ? session_->counters() : SessionCounters(), in_rate_.rate(now),
-                                odom_rate_.rate(now), gaps_.missed(), gaps_.missed() - reported_missed_,
-                                last_rejection_};
-    reported_missed_ = gaps_.missed();
-    fillDiagnostics(trackerHealth(in), d);
+    fillDiagnostics(monitor_.health(camera_src_.reason(), cam ? cam->describe() : "",
+                                    session_ ? session_->counters() : SessionCounters(), ros::WallTime::now().toSec()),
+                    d);
   }
 
   bool hasListeners() override { return true; }  // the sink of the graph: always subscribed
@@ -157,11 +140,7 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
   }
 
   void log(const SessionMessage& m) {
-    const ros::WallTime now = ros::WallTime::now();
-    ros::WallTime& last = last_log_[m.key];
-    const double period = m.level == SessionMessage::Level::kInfo ? 0.0 : m.key == "drop" || m.key == "error" ? 5.0 : 1.0;
-    if (!last.isZero() && (now - last).toSec() < period) return;
-    last = now;
+    if (!monitor_.allow(m, ros::WallTime::now().toSec())) return;
     if (m.level == SessionMessage::Level::kInfo) NODELET_INFO("tracker: %s", m.text.c_str());
     else if (m.level == SessionMessage::Level::kWarn) NODELET_WARN("tracker: %s", m.text.c_str());
     else NODELET_ERROR("tracker: %s", m.text.c_str());
@@ -170,13 +149,9 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
   void featuresCb(const iraf_vo::FeaturesConstPtr& msg) {
     std::lock_guard<std::mutex> lock(mutex_);
     const double now = ros::WallTime::now().toSec();
-    in_rate_.tick(now);
-    if (!session_) return;  // no calibration: timerCb reports why
     const int64_t stamp_ns = static_cast<int64_t>(msg->header.stamp.toNSec());
-    if (const long missing = gaps_.update(stamp_ns))
-      log({SessionMessage::Level::kWarn, std::to_string(missing) + " frame(s) missed before stamp " +
-          std::to_string(msg->header.stamp.toSec()) + " (" + std::to_string(gaps_.missed()) + " in total; input " +
-          std::to_string(1.0 / std::max(gaps_.period(), 1e-9)) + " Hz): the graph cannot keep up", "drop"});
+    for (const SessionMessage& m : monitor_.onInput(now, stamp_ns)) log(m);
+    if (!session_) return;  // no calibration: timerCb reports why
     FeatureFrame frame;
     std::string err, warning;
     const bool ok = fromMsg(*msg, &frame, &err, &warning);
@@ -185,9 +160,8 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     for (const SessionMessage& m : step.messages) log(m);
     if (step.time_jump) path_ = nav_msgs::Path();
     if (step.time_jump || step.result.initialized_now) odom_out_.reset();
+    monitor_.onStep(step);
     if (!step.tracked_frame) return;
-    last_state_ = step.result.state;
-    if (!step.result.rejected.empty()) last_rejection_ = step.result.rejected;
     const std::string camera_frame = !camera_frame_.empty()          ? camera_frame_
                                      : !msg->header.frame_id.empty() ? msg->header.frame_id
                                                                      : std::string("camera");
@@ -195,22 +169,16 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     std_msgs::Header h;
     h.stamp = msg->header.stamp;
     h.frame_id = world_frame_;
-    if (step.has_pose && base_ok) publishPose(step, h, base_frame_.empty() ? camera_frame : base_frame_), odom_rate_.tick(now);
+    if (step.has_pose && base_ok) publishPose(step, h, base_frame_.empty() ? camera_frame : base_frame_), monitor_.onOdometry(now);
     if (step.map_changed && base_ok) {
-      const Eigen::Isometry3d B = odom_out_.baseFromCamera();  // odom = B * world
-      std::vector<Eigen::Vector3d> pts;
-      std::vector<Eigen::Isometry3d> kfs;
-      for (const Eigen::Vector3d& p : step.map_points) pts.push_back(B * p);
-      for (const Eigen::Isometry3d& T : step.keyframe_poses) kfs.push_back(B * T);  // camera poses in odom
-      points_pub_.publish(toCloudMsg(pts, h));
-      keyframes_pub_.publish(toPoseArrayMsg(kfs, h));
+      points_pub_.publish(toCloudMsg(odom_out_.toOdom(step.map_points), h));
+      keyframes_pub_.publish(toPoseArrayMsg(odom_out_.toOdom(step.keyframe_poses), h));  // camera poses in odom
     }
     iraf_vo::TrackingStatusPtr st = toStatusMsg(step, msg->header, static_cast<int>(frame.keypoints.size()),
                                                 msg->ms_threshold + msg->ms_detect + msg->ms_cull);
-    st->missed_frames = gaps_.missed();
+    st->missed_frames = monitor_.missed();
     status_pub_.publish(st);
-    NODELET_INFO_THROTTLE(status_period_, "tracker: %s", trackerStatusLine(step.result.state, step.result.inliers,
-        step.counters, in_rate_.rate(now), odom_rate_.rate(now), gaps_.missed()).c_str());
+    NODELET_INFO_THROTTLE(status_period_, "tracker: %s", monitor_.statusLine(step, now).c_str());
   }
 
   // The static camera -> base transform, once: from the camera yaml's T_BS (~base_from_camera_file) or from TF.
@@ -248,7 +216,7 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     if (publish_tf_) tf_->sendTransform(toTransformMsg(s.T_odom_base, h, child));
   }
 
-  ros::Subscriber sub_, info_sub_;
+  ros::Subscriber sub_;
   ros::Publisher odom_pub_, path_pub_, points_pub_, keyframes_pub_, status_pub_;
   ros::ServiceServer save_srv_, reset_srv_;
   ros::WallTimer timer_;
@@ -267,12 +235,7 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
   std::unique_ptr<TrackingSession> session_;
   OdometryOutput odom_out_;
   bool have_base_ = false;
-  StampGapCounter gaps_;
-  RateMeter in_rate_, odom_rate_;
-  long reported_missed_ = 0;
-  TrackingState last_state_ = TrackingState::kNotInitialized;
-  std::string last_rejection_;
-  std::map<std::string, ros::WallTime> last_log_;
+  TrackerMonitor monitor_;
   nav_msgs::Path path_;
   long path_counter_ = 0;
 };

@@ -49,6 +49,20 @@ void OdometryOutput::setBaseFromCamera(const Eigen::Isometry3d& T_base_camera) {
   reset();
 }
 
+std::vector<Eigen::Vector3d> OdometryOutput::toOdom(const std::vector<Eigen::Vector3d>& points_world) const {
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(points_world.size());
+  for (const Eigen::Vector3d& p : points_world) out.push_back(B_ * p);
+  return out;
+}
+
+std::vector<Eigen::Isometry3d> OdometryOutput::toOdom(const std::vector<Eigen::Isometry3d>& poses_world) const {
+  std::vector<Eigen::Isometry3d> out;
+  out.reserve(poses_world.size());
+  for (const Eigen::Isometry3d& T : poses_world) out.push_back(B_ * T);
+  return out;
+}
+
 OdometrySample OdometryOutput::update(double stamp, const Eigen::Isometry3d& T_world_camera,
                                       const Matrix6d& cov_world_camera) {
   OdometrySample s;

@@ -42,6 +42,24 @@ double RateMeter::rate(double now) const {
   return static_cast<double>(times_.size() - 1) / span;
 }
 
+bool MessageThrottle::allow(const SessionMessage& m, double now) {
+  if (m.level == SessionMessage::Level::kInfo) return true;
+  const double period = m.key == "drop" || m.key == "error" ? 5.0 : 1.0;
+  auto it = last_.find(m.key);
+  if (it != last_.end() && now - it->second < period) return false;
+  last_[m.key] = now;
+  return true;
+}
+
+SessionMessage missedFramesMessage(long missing, int64_t stamp_ns, const StampGapCounter& gaps) {
+  char buf[256];
+  std::snprintf(buf, sizeof(buf),
+                "%ld frame(s) missed before stamp %.3f (%ld in total; camera period %.1f ms): the graph cannot keep up "
+                "(queue overflow)",
+                missing, stamp_ns * 1e-9, gaps.missed(), gaps.period() * 1e3);
+  return {SessionMessage::Level::kWarn, buf, "drop"};
+}
+
 std::string trackerStatusLine(TrackingState state, int inliers, const SessionCounters& c, double fps_in,
                               double odom_rate, long missed) {
   char buf[320];
@@ -89,6 +107,57 @@ HealthReport trackerHealth(const TrackerHealthInput& in) {
   r.add("last rejection", in.last_rejection);
   r.add("keyframes in map", static_cast<long>(c.map_keyframes));
   r.add("map points", static_cast<long>(c.map_points));
+  return r;
+}
+
+std::vector<SessionMessage> TrackerMonitor::onInput(double now, int64_t stamp_ns) {
+  in_rate_.tick(now);
+  const long missing = gaps_.update(stamp_ns);
+  if (missing <= 0) return {};
+  return {missedFramesMessage(missing, stamp_ns, gaps_)};
+}
+
+void TrackerMonitor::onStep(const SessionStep& step) {
+  if (!step.tracked_frame) return;
+  last_state_ = step.result.state;
+  if (!step.result.rejected.empty()) last_rejection_ = step.result.rejected;
+}
+
+HealthReport TrackerMonitor::health(const std::string& no_calibration, const std::string& camera,
+                                    const SessionCounters& c, double now) {
+  TrackerHealthInput in;
+  in.no_calibration = no_calibration;
+  in.camera = camera;
+  in.state = last_state_;
+  in.counters = c;
+  in.input_rate = in_rate_.rate(now);
+  in.odometry_rate = odom_rate_.rate(now);
+  in.missed = gaps_.missed();
+  in.missed_since_last_report = gaps_.missed() - reported_missed_;
+  in.last_rejection = last_rejection_;
+  reported_missed_ = gaps_.missed();
+  return trackerHealth(in);
+}
+
+std::string TrackerMonitor::statusLine(const SessionStep& step, double now) const {
+  return trackerStatusLine(step.result.state, step.result.inliers, step.counters, in_rate_.rate(now),
+                           odom_rate_.rate(now), gaps_.missed());
+}
+
+HealthReport inputHealth(const std::string& transport, const std::string& topic, double input_rate,
+                         double output_rate, long undecodable, long rejected_size, long missed,
+                         const std::string& last_problem) {
+  HealthReport r;
+  r.level = undecodable + rejected_size > 0 ? HealthReport::kWarn : HealthReport::kOk;
+  r.summary = topic.empty() ? "not subscribed (no listener)" : r.level ? "frames rejected: " + last_problem : "ok";
+  r.add("transport", transport);
+  r.add("topic", topic);
+  r.add("input rate [Hz]", input_rate);
+  r.add("output rate [Hz]", output_rate);
+  r.add("undecodable frames", undecodable);
+  r.add("rejected frames (size)", rejected_size);
+  r.add("missed frames", missed);
+  r.add("last problem", last_problem);
   return r;
 }
 

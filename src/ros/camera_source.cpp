@@ -5,6 +5,24 @@
 
 namespace iraf_vo {
 
+void CameraSource::start(ros::NodeHandle& nh, const std::string& camera_file, const CameraInfoOptions& options,
+                         Listener on_event) {
+  listener_ = std::move(on_event);
+  if (!camera_file.empty()) {
+    if (loadFile(camera_file))
+      listener_(Event::kConfigured, "camera " + camera()->describe() + " from " + camera_file);
+    else
+      listener_(Event::kInvalid, reason());
+    return;
+  }
+  useCameraInfo(nh.resolveName("camera_info"), options);
+  sub_ = nh.subscribe<sensor_msgs::CameraInfo>("camera_info", 2, [this](const sensor_msgs::CameraInfoConstPtr& m) {
+    std::string text;
+    const Event e = onCameraInfo(*m, &text);
+    if (e != Event::kNone && listener_) listener_(e, text);
+  });
+}
+
 bool CameraSource::loadFile(const std::string& path) {
   std::lock_guard<std::mutex> lock(mutex_);
   file_ = path;

@@ -20,6 +20,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <vector>
 
 namespace iraf_vo {
 
@@ -48,6 +49,9 @@ class OdometryOutput {
   const Eigen::Isometry3d& baseFromCamera() const { return B_; }
   /// One tracked frame: the camera pose (anchored world frame) and its covariance.
   OdometrySample update(double stamp, const Eigen::Isometry3d& T_world_camera, const Matrix6d& cov_world_camera);
+  /// Map points / keyframe (camera) poses of the world frame in odom (odom = B * world).
+  std::vector<Eigen::Vector3d> toOdom(const std::vector<Eigen::Vector3d>& points_world) const;
+  std::vector<Eigen::Isometry3d> toOdom(const std::vector<Eigen::Isometry3d>& poses_world) const;
   /// Forget the previous pose (new map after a time jump / restart): no twist until the next pose.
   void reset() { have_prev_ = false; }
 

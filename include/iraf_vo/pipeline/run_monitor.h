@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <deque>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -49,6 +50,19 @@ class RateMeter {
   long count_ = 0;
 };
 
+/// Console throttling per kind of SessionMessage (its key): info always, "drop" / "error" once per 5 s, other
+/// warnings (lost, rejected, reinit, reset, time_jump, restart) once per second each.
+class MessageThrottle {
+ public:
+  bool allow(const SessionMessage& m, double now);
+
+ private:
+  std::map<std::string, double> last_;
+};
+
+/// The warning for frames missing before `stamp_ns` (StampGapCounter), key "drop".
+SessionMessage missedFramesMessage(long missing, int64_t stamp_ns, const StampGapCounter& gaps);
+
 /// The throttled one-line console status of the tracker, e.g.
 /// "TRACKING, 143 inliers, 9 keyframes in map (41 created), 19.9 fps in, 19.8 odom/s, dropped 0, missed 3,
 ///  lost 1, resets 0, rejected 0".
@@ -77,6 +91,36 @@ struct TrackerHealthInput {
 };
 /// ERROR without calibration, WARN when not TRACKING or frames were missed since the last report, else OK.
 HealthReport trackerHealth(const TrackerHealthInput& in);
+
+/// Everything the tracker nodelet reports about its run besides the session counters: input / odometry rates,
+/// missed frames, the last state and rejection, console throttling. Not thread-safe (the nodelet's mutex).
+class TrackerMonitor {
+ public:
+  /// A Features message arrived (before the session): the warning to log when frames are missing before it.
+  std::vector<SessionMessage> onInput(double now, int64_t stamp_ns);
+  /// The session processed a frame.
+  void onStep(const SessionStep& step);
+  void onOdometry(double now) { odom_rate_.tick(now); }
+  bool allow(const SessionMessage& m, double now) { return throttle_.allow(m, now); }
+  long missed() const { return gaps_.missed(); }
+  /// For /diagnostics (each call starts a new "missed since the last report" interval).
+  HealthReport health(const std::string& no_calibration, const std::string& camera, const SessionCounters& c,
+                      double now);
+  std::string statusLine(const SessionStep& step, double now) const;
+
+ private:
+  StampGapCounter gaps_;
+  RateMeter in_rate_, odom_rate_;
+  MessageThrottle throttle_;
+  long reported_missed_ = 0;
+  TrackingState last_state_ = TrackingState::kNotInitialized;
+  std::string last_rejection_;
+};
+
+/// The input of the first nodelet (enhance): WARN when frames were rejected (size) or undecodable, else OK.
+HealthReport inputHealth(const std::string& transport, const std::string& topic, double input_rate,
+                         double output_rate, long undecodable, long rejected_size, long missed,
+                         const std::string& last_problem);
 
 /// Why the tracker has no calibration yet (published in tracking_status.reason at 1 Hz until it has one).
 /// camera_file: ~camera_file ("" = camera_info mode); file_error: its load error; info_topic: the resolved

@@ -8,7 +8,11 @@
 //     one gives kInvalid (reason() names the field; a camera configured before stays in use).
 #pragma once
 
+#include <ros/node_handle.h>
+#include <ros/subscriber.h>
 #include <sensor_msgs/CameraInfo.h>
+
+#include <functional>
 
 #include <mutex>
 #include <string>
@@ -21,6 +25,12 @@ namespace iraf_vo {
 class CameraSource {
  public:
   enum class Event { kNone, kConfigured, kChanged, kInvalid };
+
+  using Listener = std::function<void(Event, const std::string& message)>;
+  /// A nodelet's setup: camera_file non-empty: loadFile() and on_event(kConfigured | kInvalid) at once; else
+  /// camera_info mode on nh's `camera_info` (resolved, remappable) with on_event for every kConfigured / kChanged /
+  /// kInvalid message.
+  void start(ros::NodeHandle& nh, const std::string& camera_file, const CameraInfoOptions& options, Listener on_event);
 
   /// Loads ~camera_file; false + reason() on failure.
   bool loadFile(const std::string& path);
@@ -42,6 +52,8 @@ class CameraSource {
   CameraModelPtr camera_;
   bool have_info_ = false;
   sensor_msgs::CameraInfo last_info_;
+  ros::Subscriber sub_;
+  Listener listener_;
 };
 
 }  // namespace iraf_vo
