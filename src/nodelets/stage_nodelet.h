@@ -24,10 +24,11 @@ inline void fillDiagnostics(const HealthReport& r, diagnostic_updater::Diagnosti
   for (const auto& kv : r.values) d.add(kv.first, kv.second);
 }
 
-/// A diagnostic_updater named after the nodelet (status "<nodelet>: <task>"), hardware id "iraf_vo".
+/// A diagnostic_updater named after the nodelet: status "<nodelet name without the leading />: <task>", e.g.
+/// "tracker: tracking"; hardware id "iraf_vo". Updated by the caller (force_update from a wall timer: no sim time).
 inline std::shared_ptr<diagnostic_updater::Updater> makeUpdater(ros::NodeHandle& nh,
                                                                 ros::NodeHandle& pnh, const std::string& name) {
-  auto u = std::make_shared<diagnostic_updater::Updater>(nh, pnh, name.substr(name.rfind('/') + 1));
+  auto u = std::make_shared<diagnostic_updater::Updater>(nh, pnh, name);  // it drops name[0] = '/'
   u->setHardwareID("iraf_vo");
   return u;
 }
