@@ -7,12 +7,6 @@ namespace iraf_vo {
 
 namespace {
 
-Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
-}
-
 Matrix6d blockRotate(const Eigen::Matrix3d& R, const Matrix6d& c) {
   Matrix6d J = Matrix6d::Zero();
   J.topLeftCorner<3, 3>() = R;
@@ -36,7 +30,8 @@ Matrix6d baseCovariance(const Matrix6d& cov_world_camera, const Eigen::Isometry3
   const Eigen::Vector3d t_cb = T_base_camera.inverse().translation();  // base origin in the camera frame
   Matrix6d J = Matrix6d::Zero();
   J.topLeftCorner<3, 3>() = RB;
-  J.topRightCorner<3, 3>() = -RB * skew(T_world_camera.rotation() * t_cb);
+  const Eigen::Vector3d lever = T_world_camera.rotation() * t_cb;
+  for (int i = 0; i < 3; ++i) J.block<3, 1>(0, 3 + i) = -RB * lever.cross(Eigen::Vector3d::Unit(i));  // -R_B [lever]x
   J.bottomRightCorner<3, 3>() = RB;
   return positiveDefinite(J * cov_world_camera * J.transpose());
 }

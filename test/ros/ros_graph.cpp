@@ -11,6 +11,8 @@
 //   5. FisheyeCameraInfo: an equidistant camera_info reconfigures the tracker (Kannala-Brandt in /diagnostics).
 #include <gtest/gtest.h>
 
+#include "common/wait_for.h"
+
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
@@ -41,14 +43,7 @@ std::string g_dir, g_error;
 std::vector<sensor_msgs::CompressedImage> g_frames;  // png, stamps from the simulator
 sensor_msgs::CameraInfo g_info;
 
-bool waitFor(const std::function<bool()>& cond, double seconds) {
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
-  while (ros::WallTime::now() < end) {
-    if (cond()) return true;
-    ros::WallDuration(0.01).sleep();
-  }
-  return cond();
-}
+using iraf_vo::test::waitFor;
 
 class RosGraphTest : public ::testing::Test {
  protected:
