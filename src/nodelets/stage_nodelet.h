@@ -10,6 +10,7 @@
 #include <ros/ros.h>
 
 #include <boost/thread/recursive_mutex.hpp>
+#include <functional>
 #include <memory>
 #include <mutex>
 
@@ -54,6 +55,17 @@ class StageNodelet : public nodelet::Nodelet {
   void setParams(const Params& p) {
     std::lock_guard<std::mutex> lock(params_mutex_);
     params_ = p;
+  }
+  /// The startup values before startReconfigure(): every table field from the private parameters (e.g. a YAML
+  /// section); a bad value is skipped with an error naming the key, an invalid combination falls back to `defaults`.
+  void readStartupParams(const Params& defaults, const std::function<std::string(const Params&)>& validate) {
+    Params p = defaults;
+    std::vector<std::string> errors;
+    readPrivateParams(table_, getPrivateNodeHandle(), &p, &errors);
+    for (const std::string& e : errors) NODELET_ERROR("%s: %s", section(), e.c_str());
+    const std::string err = validate(p);
+    if (!err.empty()) NODELET_ERROR("%s: %s; using the defaults", section(), err.c_str());
+    setParams(err.empty() ? p : defaults);
   }
   /// Called after each accepted change with the new parameters and the Config (for nodelet-only fields).
   virtual void onParams(const Params& p, const Config& c) {}

@@ -58,14 +58,7 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     pnh.param<std::string>("camera_file", camera_file, "");
     path_publish_every_ = std::max(1, path_publish_every_);
 
-    // Every TrackerParams field may be set from ~name (e.g. the YAML `tracker:` section); bad values name the key.
-    TrackerParams p;
-    std::vector<std::string> errors;
-    readPrivateParams(table(), pnh, &p, &errors);
-    for (const std::string& e : errors) NODELET_ERROR("tracker: %s", e.c_str());
-    const std::string err = validate(p);
-    if (!err.empty()) NODELET_ERROR("tracker: %s; using the defaults", err.c_str());
-    setParams(err.empty() ? p : TrackerParams());
+    readStartupParams(TrackerParams(), [](const TrackerParams& p) { return validate(p); });  // ~name: YAML tracker:
 
     odom_pub_ = nh.advertise<nav_msgs::Odometry>("odometry", 10);
     path_pub_ = nh.advertise<nav_msgs::Path>("path", 1, true);
