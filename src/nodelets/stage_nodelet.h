@@ -3,18 +3,36 @@
 // under a mutex, copied per frame), and lazy subscription: inputs are subscribed only while an output has listeners.
 #pragma once
 
+#include <diagnostic_updater/diagnostic_updater.h>
 #include <dynamic_reconfigure/server.h>
 #include <image_transport/image_transport.h>
 #include <nodelet/nodelet.h>
 #include <ros/ros.h>
 
 #include <boost/thread/recursive_mutex.hpp>
+#include <functional>
 #include <memory>
 #include <mutex>
 
+#include "iraf_vo/pipeline/run_monitor.h"
 #include "param_bridge.h"
 
 namespace iraf_vo {
+
+/// A ROS-free HealthReport into a /diagnostics status.
+inline void fillDiagnostics(const HealthReport& r, diagnostic_updater::DiagnosticStatusWrapper& d) {
+  d.summary(static_cast<unsigned char>(r.level), r.summary);
+  for (const auto& kv : r.values) d.add(kv.first, kv.second);
+}
+
+/// A diagnostic_updater named after the nodelet: status "<nodelet name without the leading />: <task>", e.g.
+/// "tracker: tracking"; hardware id "iraf_vo". Updated by the caller (force_update from a wall timer: no sim time).
+inline std::shared_ptr<diagnostic_updater::Updater> makeUpdater(ros::NodeHandle& nh,
+                                                                ros::NodeHandle& pnh, const std::string& name) {
+  auto u = std::make_shared<diagnostic_updater::Updater>(nh, pnh, name);  // it drops name[0] = '/'
+  u->setHardwareID("iraf_vo");
+  return u;
+}
 
 template <class Params, class Config>
 class StageNodelet : public nodelet::Nodelet {
@@ -37,6 +55,17 @@ class StageNodelet : public nodelet::Nodelet {
   void setParams(const Params& p) {
     std::lock_guard<std::mutex> lock(params_mutex_);
     params_ = p;
+  }
+  /// The startup values before startReconfigure(): every table field from the private parameters (e.g. a YAML
+  /// section); a bad value is skipped with an error naming the key, an invalid combination falls back to `defaults`.
+  void readStartupParams(const Params& defaults, const std::function<std::string(const Params&)>& validate) {
+    Params p = defaults;
+    std::vector<std::string> errors;
+    readPrivateParams(table_, getPrivateNodeHandle(), &p, &errors);
+    for (const std::string& e : errors) NODELET_ERROR("%s: %s", section(), e.c_str());
+    const std::string err = validate(p);
+    if (!err.empty()) NODELET_ERROR("%s: %s; using the defaults", section(), err.c_str());
+    setParams(err.empty() ? p : defaults);
   }
   /// Called after each accepted change with the new parameters and the Config (for nodelet-only fields).
   virtual void onParams(const Params& p, const Config& c) {}

@@ -1,32 +1,22 @@
-// TrackerNodelet: features (iraf_vo/Features) -> odometry, path, map_points, keyframes, tracking_status + TF.
-// Thin: converts messages and publishes what iraf_vo::TrackingSession (the ROS-free run rules around the core
-// Tracker: stamp checks, parameter restarts, anchor, recorded trajectory, counters) returns for each frame.
-//
-// Frames (REP-103 / REP-105):
-//   * Poses are T_world_camera of the camera OPTICAL frame (REP-103 optical convention: z forward, x right,
-//     y down), exactly the core's T_w_c.
-//   * world_frame (default "odom") is the optical frame of the camera at the first initialization (not gravity
-//     aligned: monocular VO has no gravity; its z axis is the initial viewing direction). Default "odom" because
-//     this is drifting odometry without loop closure: REP-105's odom frame is continuous and drifts, while map is
-//     expected to be globally consistent. Set ~world_frame:=map when this is the only pose source.
-//   * camera_frame (~camera_frame, default: the image header's frame_id, e.g. cam0) is the child of the
-//     odometry and of the TF world_frame -> camera_frame.
-//   * Monocular scale: the first map has median scene depth 1 (arbitrary units).
-// Timestamps and parameter changes (dynamic_reconfigure, cfg/Tracker.cfg; the `~reset` service): see
-// include/iraf_vo/pipeline/tracking_session.h. A time jump back restarts the published path too.
-#include <nav_msgs/Odometry.h>
+// TrackerNodelet: features (iraf_vo/Features) -> odometry, path, map_points, keyframes, tracking_status, TF,
+// /diagnostics. Thin: converts messages and publishes what iraf_vo::TrackingSession (run rules: stamps, restarts,
+// anchor, trajectory, counters, warnings), iraf_vo::OdometryOutput (base frame, covariance, twist) and
+// run_monitor.h (missed frames, rates, status line) return. Calibration: ~camera_file or camera_info (CameraSource).
+// Frames (REP-103 / REP-105; README "Frames"): world_frame (default odom) = the base frame (~base_frame; empty = the
+// camera optical frame, as before) at the start of the map; child = base_frame (or the camera frame).
+#include <diagnostic_updater/diagnostic_updater.h>
 #include <nav_msgs/Path.h>
 #include <std_srvs/Trigger.h>
 #include <tf2_ros/transform_broadcaster.h>
+#include <tf2_ros/transform_listener.h>
 
 #include <algorithm>
 #include <pluginlib/class_list_macros.hpp>
 
 #include "iraf_vo/Features.h"
 #include "iraf_vo/TrackerConfig.h"
-#include "iraf_vo/TrackingStatus.h"
-#include "iraf_vo/camera/camera_loader.h"
-#include "iraf_vo/pipeline/tracking_session.h"
+#include "iraf_vo/pipeline/run_monitor.h"
+#include "iraf_vo/ros/camera_source.h"
 #include "iraf_vo/ros/feature_conversion.h"
 #include "iraf_vo/ros/tracking_conversion.h"
 #include "iraf_vo/tracking/tracker_params_io.h"
@@ -41,7 +31,7 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     // Record the trajectory on shutdown (roslaunch Ctrl-C unloads the nodelets).
     std::lock_guard<std::mutex> lock(mutex_);
     std::string err;
-    if (session_ && !trajectory_file_.empty() && session_->trajectory().size() > 0 && !session_->saveTrajectory(&err))
+    if (session_ && !opts_.trajectory_file.empty() && session_->trajectory().size() > 0 && !session_->saveTrajectory(&err))
       ROS_ERROR("tracker: ~trajectory_file %s", err.c_str());
     session_.reset();
   }
@@ -51,39 +41,24 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle& pnh = getPrivateNodeHandle();
     int queue_size = 10;
-    SessionOptions opts;
+    CameraInfoOptions info_opts;
+    std::string camera_file;
     pnh.param("queue_size", queue_size, 10);
     pnh.param<std::string>("world_frame", world_frame_, "odom");
     pnh.param<std::string>("camera_frame", camera_frame_, "");
+    pnh.param<std::string>("base_frame", base_frame_, "");
+    pnh.param("base_from_camera_file", base_from_file_, false);
     pnh.param("publish_tf", publish_tf_, true);
-    pnh.param("max_out_of_order", opts.max_out_of_order, 1.0);
-    pnh.param<std::string>("trajectory_file", opts.trajectory_file, "");
-    pnh.param("save_every_keyframe", opts.save_every_keyframe, true);
+    pnh.param("max_out_of_order", opts_.max_out_of_order, 1.0);
+    pnh.param<std::string>("trajectory_file", opts_.trajectory_file, "");
+    pnh.param("save_every_keyframe", opts_.save_every_keyframe, true);
     pnh.param("path_publish_every", path_publish_every_, 1);
-    path_publish_every_ = std::max(1, path_publish_every_);
-    trajectory_file_ = opts.trajectory_file;
-
-    // Every TrackerParams field may be set from ~name (e.g. the YAML `tracker:` section); bad values name the key.
-    TrackerParams p;
-    std::vector<std::string> errors;
-    readPrivateParams(table(), pnh, &p, &errors);
-    for (const std::string& e : errors) NODELET_ERROR("tracker: %s", e.c_str());
-    const std::string err = validate(p);
-    if (!err.empty()) NODELET_ERROR("tracker: %s; using the defaults", err.c_str());
-    setParams(err.empty() ? p : TrackerParams());
-
-    std::string camera_file, cam_err;
+    pnh.param("status_period", status_period_, 10.0);
+    pnh.param("use_rectified", info_opts.use_rectified, false);
     pnh.param<std::string>("camera_file", camera_file, "");
-    CameraModelPtr camera;
-    if (camera_file.empty()) {
-      NODELET_ERROR(
-          "tracker: ~camera_file is not set (a calibration yaml, e.g. $(find iraf_vo)/config/euroc_cam0.yaml)"
-          "; not tracking");
-    } else if (!(camera = loadCamera(camera_file, &cam_err))) {
-      NODELET_ERROR("tracker: ~camera_file %s: %s; not tracking", camera_file.c_str(), cam_err.c_str());
-    } else {
-      NODELET_INFO("tracker: camera %s, world frame '%s'", camera->describe().c_str(), world_frame_.c_str());
-    }
+    path_publish_every_ = std::max(1, path_publish_every_);
+
+    readStartupParams(TrackerParams(), [](const TrackerParams& p) { return validate(p); });  // ~name: YAML tracker:
 
     odom_pub_ = nh.advertise<nav_msgs::Odometry>("odometry", 10);
     path_pub_ = nh.advertise<nav_msgs::Path>("path", 1, true);
@@ -91,19 +66,48 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     keyframes_pub_ = nh.advertise<geometry_msgs::PoseArray>("keyframes", 1, true);
     status_pub_ = nh.advertise<iraf_vo::TrackingStatus>("tracking_status", 10);
     tf_ = std::make_shared<tf2_ros::TransformBroadcaster>();
+    if (!base_frame_.empty()) tf_listener_ = std::make_shared<tf2_ros::TransformListener>(tf_buffer_);
     save_srv_ = pnh.advertiseService("save_trajectory", &TrackerNodelet::saveCb, this);
     reset_srv_ = pnh.advertiseService("reset", &TrackerNodelet::resetCb, this);
+    updater_ = makeUpdater(nh, pnh, getName());
+    updater_->add("tracking", this, &TrackerNodelet::diagnose);
     startReconfigure();  // its first callback: the startup values
-    if (!camera) return;
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      session_ = std::make_unique<TrackingSession>(camera, params(), opts);
-    }
+    camera_src_.start(nh, camera_file, info_opts, [this](CameraSource::Event e, const std::string& text) {
+      if (e == CameraSource::Event::kInvalid) NODELET_ERROR("tracker: %s", text.c_str());
+      if (e == CameraSource::Event::kChanged) NODELET_WARN("tracker: %s: restarting the tracker (new map)", text.c_str());
+      if (e != CameraSource::Event::kInvalid) startSession(camera_src_.camera(), text);
+    });
+    timer_ = nh.createWallTimer(ros::WallDuration(1.0), &TrackerNodelet::timerCb, this);
     sub_ = nh.subscribe("features", queue_size, &TrackerNodelet::featuresCb, this);
   }
 
-  // The tracker subscribes whenever it has a camera (its outputs are latched / TF).
-  bool hasListeners() override { return true; }
+  void startSession(const CameraModelPtr& cam, const std::string& why) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    NODELET_INFO("tracker: %s, world frame '%s'", why.c_str(), world_frame_.c_str());
+    session_ = std::make_unique<TrackingSession>(cam, params(), opts_);
+    odom_out_.reset();
+    path_ = nav_msgs::Path();
+  }
+
+  // Without a calibration: tracking_status with the reason at 1 Hz. Always: /diagnostics.
+  void timerCb(const ros::WallTimerEvent&) {
+    const std::string reason = camera_src_.reason();
+    if (!reason.empty()) {
+      status_pub_.publish(toNoCalibrationStatusMsg(reason, ros::Time::now()));
+      NODELET_WARN_THROTTLE(10.0, "tracker: %s", reason.c_str());
+    }
+    updater_->force_update();
+  }
+
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& d) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const CameraModelPtr cam = camera_src_.camera();
+    fillDiagnostics(monitor_.health(camera_src_.reason(), cam ? cam->describe() : "",
+                                    session_ ? session_->counters() : SessionCounters(), ros::WallTime::now().toSec()),
+                    d);
+  }
+
+  bool hasListeners() override { return true; }  // the sink of the graph: always subscribed
   void subscribeInputs() override {}
   void unsubscribeInputs() override {}
 
@@ -115,97 +119,116 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
   bool resetCb(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (session_) session_->requestRestart();
-    res.success = true;
-    res.message = "the tracker restarts on the next frame (new map, path continues)";
+    res.success = session_ != nullptr;
+    res.message = session_ ? "the tracker restarts on the next frame (new map, path continues)" : camera_src_.reason();
     return true;
   }
 
   bool saveCb(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
     std::lock_guard<std::mutex> lock(mutex_);
-    std::string err;
-    res.success = !trajectory_file_.empty() && session_ && session_->saveTrajectory(&err);
-    res.message = trajectory_file_.empty() ? "~trajectory_file is not set"
-                  : res.success
-                      ? "wrote " + std::to_string(session_->trajectory().size()) + " poses to " + trajectory_file_
-                      : err;
+    std::string err = "~trajectory_file is not set";
+    res.success = !opts_.trajectory_file.empty() && session_ && session_->saveTrajectory(&err);
+    res.message = res.success ? "wrote " + std::to_string(session_->trajectory().size()) + " poses" : err;
     return true;
+  }
+
+  void log(const SessionMessage& m) {
+    if (!monitor_.allow(m, ros::WallTime::now().toSec())) return;
+    if (m.level == SessionMessage::Level::kInfo) NODELET_INFO("tracker: %s", m.text.c_str());
+    else if (m.level == SessionMessage::Level::kWarn) NODELET_WARN("tracker: %s", m.text.c_str());
+    else NODELET_ERROR("tracker: %s", m.text.c_str());
   }
 
   void featuresCb(const iraf_vo::FeaturesConstPtr& msg) {
     std::lock_guard<std::mutex> lock(mutex_);
+    const double now = ros::WallTime::now().toSec();
+    const int64_t stamp_ns = static_cast<int64_t>(msg->header.stamp.toNSec());
+    for (const SessionMessage& m : monitor_.onInput(now, stamp_ns)) log(m);
+    if (!session_) return;  // no calibration: timerCb reports why
     FeatureFrame frame;
     std::string err, warning;
     const bool ok = fromMsg(*msg, &frame, &err, &warning);
     if (!warning.empty()) NODELET_WARN_ONCE("tracker: %s", warning.c_str());
-    const SessionStep step =
-        session_->process(static_cast<int64_t>(msg->header.stamp.toNSec()), ok ? &frame : nullptr, err);
-    for (const SessionMessage& m : step.messages) {
-      if (m.level == SessionMessage::Level::kInfo)
-        NODELET_INFO("tracker: %s", m.text.c_str());
-      else if (m.level == SessionMessage::Level::kWarn)
-        NODELET_WARN_THROTTLE(2.0, "tracker: %s", m.text.c_str());
-      else
-        NODELET_ERROR_THROTTLE(5.0, "tracker: %s", m.text.c_str());
-    }
+    const SessionStep step = session_->process(stamp_ns, ok ? &frame : nullptr, err);
+    for (const SessionMessage& m : step.messages) log(m);
     if (step.time_jump) path_ = nav_msgs::Path();
+    if (step.time_jump || step.result.initialized_now) odom_out_.reset();
+    monitor_.onStep(step);
     if (!step.tracked_frame) return;
     const std::string camera_frame = !camera_frame_.empty()          ? camera_frame_
                                      : !msg->header.frame_id.empty() ? msg->header.frame_id
                                                                      : std::string("camera");
-    if (step.has_pose) publishPose(step.T_world_camera, msg->header.stamp, camera_frame);
-    if (step.map_changed) {
-      std_msgs::Header h;
-      h.stamp = msg->header.stamp;
-      h.frame_id = world_frame_;
-      points_pub_.publish(toCloudMsg(step.map_points, h));
-      keyframes_pub_.publish(toPoseArrayMsg(step.keyframe_poses, h));
+    const bool base_ok = resolveBase(camera_frame);
+    std_msgs::Header h;
+    h.stamp = msg->header.stamp;
+    h.frame_id = world_frame_;
+    if (step.has_pose && base_ok) publishPose(step, h, base_frame_.empty() ? camera_frame : base_frame_), monitor_.onOdometry(now);
+    if (step.map_changed && base_ok) {
+      points_pub_.publish(toCloudMsg(odom_out_.toOdom(step.map_points), h));
+      keyframes_pub_.publish(toPoseArrayMsg(odom_out_.toOdom(step.keyframe_poses), h));  // camera poses in odom
     }
-    status_pub_.publish(toStatusMsg(step, msg->header, static_cast<int>(frame.keypoints.size()),
-                                    msg->ms_threshold + msg->ms_detect + msg->ms_cull));
-    if (!step.has_pose)
-      NODELET_DEBUG_THROTTLE(1.0, "tracker: %s (%d inliers)", toString(step.result.state), step.result.inliers);
+    iraf_vo::TrackingStatusPtr st = toStatusMsg(step, msg->header, static_cast<int>(frame.keypoints.size()),
+                                                msg->ms_threshold + msg->ms_detect + msg->ms_cull);
+    st->missed_frames = monitor_.missed();
+    status_pub_.publish(st);
+    NODELET_INFO_THROTTLE(status_period_, "tracker: %s", monitor_.statusLine(step, now).c_str());
   }
 
-  void publishPose(const Eigen::Isometry3d& T, const ros::Time& stamp, const std::string& camera_frame) {
-    nav_msgs::OdometryPtr odom = boost::make_shared<nav_msgs::Odometry>();
-    odom->header.stamp = stamp;
-    odom->header.frame_id = world_frame_;
-    odom->child_frame_id = camera_frame;
-    odom->pose.pose = toPoseMsg(T);
-    // Covariance unknown (monocular, arbitrary scale): -1 on the diagonal's first element marks it as unset.
-    odom->pose.covariance[0] = -1.0;
-    odom->twist.covariance[0] = -1.0;
-    odom_pub_.publish(odom);
+  // The static camera -> base transform, once: from the camera yaml's T_BS (~base_from_camera_file) or from TF.
+  bool resolveBase(const std::string& camera_frame) {
+    if (base_frame_.empty() || have_base_) return true;
+    if (base_from_file_) {
+      const CameraModelPtr cam = camera_src_.camera();
+      odom_out_.setBaseFromCamera(Eigen::Isometry3d(cam->T_BS));
+      NODELET_INFO("tracker: %s -> %s from the camera file's T_BS", camera_frame.c_str(), base_frame_.c_str());
+      return have_base_ = true;
+    }
+    try {
+      const auto t = tf_buffer_.lookupTransform(base_frame_, camera_frame, ros::Time(0));
+      odom_out_.setBaseFromCamera(fromTransformMsg(t.transform));
+      NODELET_INFO("tracker: %s -> %s from TF", camera_frame.c_str(), base_frame_.c_str());
+      return have_base_ = true;
+    } catch (const tf2::TransformException& e) {
+      NODELET_WARN_THROTTLE(2.0, "tracker: no odometry yet: waiting for the static TF %s -> %s (robot_state_publisher"
+                            " / static_transform_publisher, or ~base_from_camera_file): %s", base_frame_.c_str(),
+                            camera_frame.c_str(), e.what());
+      return false;
+    }
+  }
 
+  void publishPose(const SessionStep& step, const std_msgs::Header& h, const std::string& child) {
+    const OdometrySample s = odom_out_.update(h.stamp.toSec(), step.T_world_camera, step.covariance);
+    nav_msgs::OdometryPtr odom = toOdometryMsg(s, h, child);
+    odom_pub_.publish(odom);
     geometry_msgs::PoseStamped ps;
-    ps.header = odom->header;
+    ps.header = h;
     ps.pose = odom->pose.pose;
-    path_.header = odom->header;
+    path_.header = h;
     path_.poses.push_back(ps);
     if (++path_counter_ % path_publish_every_ == 0) path_pub_.publish(boost::make_shared<nav_msgs::Path>(path_));
-
-    if (publish_tf_) {
-      geometry_msgs::TransformStamped tf;
-      tf.header = odom->header;
-      tf.child_frame_id = camera_frame;
-      tf.transform.translation.x = ps.pose.position.x;
-      tf.transform.translation.y = ps.pose.position.y;
-      tf.transform.translation.z = ps.pose.position.z;
-      tf.transform.rotation = ps.pose.orientation;
-      tf_->sendTransform(tf);
-    }
+    if (publish_tf_) tf_->sendTransform(toTransformMsg(s.T_odom_base, h, child));
   }
 
   ros::Subscriber sub_;
   ros::Publisher odom_pub_, path_pub_, points_pub_, keyframes_pub_, status_pub_;
   ros::ServiceServer save_srv_, reset_srv_;
+  ros::WallTimer timer_;
   std::shared_ptr<tf2_ros::TransformBroadcaster> tf_;
-  std::string world_frame_, camera_frame_, trajectory_file_;
-  bool publish_tf_ = true;
+  tf2_ros::Buffer tf_buffer_;
+  std::shared_ptr<tf2_ros::TransformListener> tf_listener_;
+  std::shared_ptr<diagnostic_updater::Updater> updater_;
+  std::string world_frame_, camera_frame_, base_frame_;
+  bool publish_tf_ = true, base_from_file_ = false;
   int path_publish_every_ = 1;
+  double status_period_ = 10.0;
+  SessionOptions opts_;
+  CameraSource camera_src_;
 
-  std::mutex mutex_;  // everything below: frame callback, reconfigure, services
+  std::mutex mutex_;  // everything below: frame callback, reconfigure, services, timer
   std::unique_ptr<TrackingSession> session_;
+  OdometryOutput odom_out_;
+  bool have_base_ = false;
+  TrackerMonitor monitor_;
   nav_msgs::Path path_;
   long path_counter_ = 0;
 };

@@ -37,7 +37,7 @@ SessionCounters TrackingSession::counters() const {
 
 void TrackingSession::drop(SessionStep* step, SessionMessage::Level level, const std::string& why) {
   ++counters_.dropped;
-  step->messages.push_back({level, "dropping frame " + why});
+  step->messages.push_back({level, "dropping frame " + why, level == SessionMessage::Level::kError ? "error" : "drop"});
   step->counters = counters();
 }
 
@@ -45,7 +45,8 @@ void TrackingSession::restartAfterTimeJump(int64_t stamp_ns, SessionStep* step) 
   step->messages.push_back({SessionMessage::Level::kWarn, "time jumped back " + seconds(last_stamp_ns_ - stamp_ns, 3) +
                                                               " s (" + seconds(last_stamp_ns_, 3) + " -> " +
                                                               seconds(stamp_ns, 3) +
-                                                              "; bag loop / restart?): new map, the path restarts"});
+                                                              "; bag loop / restart?): new map, the path restarts",
+                            "time_jump"});
   ++counters_.time_resets;
   tracker_.reset();
   trajectory_ = Trajectory();
@@ -60,8 +61,9 @@ void TrackingSession::createTracker(const Eigen::Isometry3d& anchor, SessionStep
   try {
     tracker_ = std::make_unique<Tracker>(camera_, pending_params_);
   } catch (const std::exception& e) {
-    step->messages.push_back({SessionMessage::Level::kError, std::string("cannot create the tracker: ") + e.what() +
-                                                                 "; keeping the previous parameters"});
+    step->messages.push_back({SessionMessage::Level::kError,
+                              std::string("cannot create the tracker: ") + e.what() + "; keeping the previous parameters",
+                              "error"});
     pending_params_ = params_;
     tracker_ = std::make_unique<Tracker>(camera_, params_);
   }
@@ -98,8 +100,10 @@ SessionStep TrackingSession::process(int64_t stamp_ns, const FeatureFrame* frame
   if (!tracker_) {
     createTracker(Eigen::Isometry3d::Identity(), &step);
   } else if (restart_requested_ || (params_changed && tracker_->state() != TrackingState::kTracking)) {
-    step.messages.push_back({SessionMessage::Level::kInfo, std::string("restarting the tracker") +
-                                                               (params_changed ? " with the new parameters" : "")});
+    step.messages.push_back({SessionMessage::Level::kWarn,
+                             std::string("restarting the tracker") + (params_changed ? " with the new parameters" : "") +
+                                 (have_last_pose_ ? " (new map, anchored at the last pose)" : " (new map)"),
+                             "restart"});
     createTracker(have_last_pose_ ? last_published_ : Eigen::Isometry3d::Identity(), &step);
   }
   restart_requested_ = false;
@@ -111,12 +115,19 @@ SessionStep TrackingSession::process(int64_t stamp_ns, const FeatureFrame* frame
     return drop(&step, SessionMessage::Level::kError, at + e.what() + "; restarting the tracker"), step;
   }
   step.tracked_frame = true;
+  if (tracker_->stats().resets > internal_resets_last_)
+    step.messages.push_back({SessionMessage::Level::kWarn,
+                             "map reset: lost for lost_frames_before_reset frames, initializing a new map", "reset"});
   internal_resets_last_ = tracker_->stats().resets;
-  countFrame(step.result);
+  countFrame(step.result, &step);
   const TrackResult& r = step.result;
   if (r.state == TrackingState::kTracking) {
     step.has_pose = true;
     step.T_world_camera = anchor_ * r.T_w_c;
+    // The anchor is rigid: [position, world rotation] covariance rotates with its rotation.
+    Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Zero();
+    A.topLeftCorner<3, 3>() = A.bottomRightCorner<3, 3>() = anchor_.rotation();
+    step.covariance = A * r.covariance * A.transpose();
     last_published_ = step.T_world_camera;
     have_last_pose_ = true;
     trajectory_.push_back(static_cast<double>(stamp_ns) * 1e-9, step.T_world_camera);
@@ -124,16 +135,36 @@ SessionStep TrackingSession::process(int64_t stamp_ns, const FeatureFrame* frame
   if (r.is_keyframe || r.initialized_now) collectMap(&step);
   std::string err;
   if (r.is_keyframe && options_.save_every_keyframe && !options_.trajectory_file.empty() && !saveTrajectory(&err))
-    step.messages.push_back({SessionMessage::Level::kError, err});
+    step.messages.push_back({SessionMessage::Level::kError, err, "error"});
   step.counters = counters();
   return step;
 }
 
-void TrackingSession::countFrame(const TrackResult& r) {
+void TrackingSession::countFrame(const TrackResult& r, SessionStep* step) {
+  using L = SessionMessage::Level;
   ++counters_.frames;
   if (r.state == TrackingState::kTracking) ++counters_.tracked;
   if (r.state == TrackingState::kLost) ++counters_.lost_frames;
-  if (r.state == TrackingState::kLost && last_state_ == TrackingState::kTracking) ++counters_.lost_events;
+  if (!r.rejected.empty()) {
+    ++counters_.rejected;
+    step->messages.push_back({L::kWarn, "pose rejected by the health monitor: " + r.rejected, "rejected"});
+  }
+  if (r.state == TrackingState::kLost && last_state_ == TrackingState::kTracking) {
+    ++counters_.lost_events;
+    step->messages.push_back({L::kWarn, "LOST (" + std::to_string(r.inliers) + " inliers of " +
+                                            std::to_string(r.matches) + " matches" +
+                                            (r.rejected.empty() ? "" : "; rejected: " + r.rejected) +
+                                            "): relocalizing, the map resets after lost_frames_before_reset frames",
+                              "lost"});
+  }
+  if (r.initialized_now) {
+    if (counters_.initializations > 0)
+      step->messages.push_back({L::kWarn, "re-initialized: new map (" + std::to_string(r.inliers) + " inliers)",
+                                "reinit"});
+    else
+      step->messages.push_back({L::kInfo, "initialized (" + std::to_string(r.inliers) + " inliers)", "init"});
+    ++counters_.initializations;
+  }
   if (r.is_keyframe) ++counters_.keyframes;
   last_state_ = r.state;
 }

@@ -72,6 +72,8 @@ iraf_vo::TrackingStatusPtr toStatusMsg(const SessionStep& step, const std_msgs::
   s->resets = c.resets;
   s->time_resets = c.time_resets;
   s->dropped_frames = c.dropped;
+  s->rejected_poses = c.rejected;
+  s->reason = r.rejected;
   s->keyframes = c.keyframes;
   s->map_keyframes = c.map_keyframes;
   s->map_points = c.map_points;
@@ -83,6 +85,58 @@ iraf_vo::TrackingStatusPtr toStatusMsg(const SessionStep& step, const std_msgs::
   s->ms_keyframe = r.timing.ms_keyframe;
   s->ms_total = r.timing.ms_total;
   return s;
+}
+
+iraf_vo::TrackingStatusPtr toNoCalibrationStatusMsg(const std::string& reason, const ros::Time& stamp) {
+  iraf_vo::TrackingStatusPtr s = boost::make_shared<iraf_vo::TrackingStatus>();
+  s->header.stamp = stamp;
+  s->state = static_cast<uint8_t>(TrackingState::kNotInitialized);
+  s->state_name = stateName(TrackingState::kNotInitialized);
+  s->reason = reason;
+  return s;
+}
+
+nav_msgs::OdometryPtr toOdometryMsg(const OdometrySample& s, const std_msgs::Header& header,
+                                    const std::string& child_frame) {
+  nav_msgs::OdometryPtr odom = boost::make_shared<nav_msgs::Odometry>();
+  odom->header = header;
+  odom->child_frame_id = child_frame;
+  odom->pose.pose = toPoseMsg(s.T_odom_base);
+  for (int r = 0; r < 6; ++r)
+    for (int c = 0; c < 6; ++c) odom->pose.covariance[6 * r + c] = s.pose_covariance(r, c);
+  if (s.has_twist) {
+    odom->twist.twist.linear.x = s.twist(0);
+    odom->twist.twist.linear.y = s.twist(1);
+    odom->twist.twist.linear.z = s.twist(2);
+    odom->twist.twist.angular.x = s.twist(3);
+    odom->twist.twist.angular.y = s.twist(4);
+    odom->twist.twist.angular.z = s.twist(5);
+    for (int r = 0; r < 6; ++r)
+      for (int c = 0; c < 6; ++c) odom->twist.covariance[6 * r + c] = s.twist_covariance(r, c);
+  } else {
+    odom->twist.covariance[0] = -1.0;  // unknown (first pose of a map)
+  }
+  return odom;
+}
+
+geometry_msgs::TransformStamped toTransformMsg(const Eigen::Isometry3d& T, const std_msgs::Header& header,
+                                               const std::string& child_frame) {
+  geometry_msgs::TransformStamped tf;
+  tf.header = header;
+  tf.child_frame_id = child_frame;
+  const geometry_msgs::Pose p = toPoseMsg(T);
+  tf.transform.translation.x = p.position.x;
+  tf.transform.translation.y = p.position.y;
+  tf.transform.translation.z = p.position.z;
+  tf.transform.rotation = p.orientation;
+  return tf;
+}
+
+Eigen::Isometry3d fromTransformMsg(const geometry_msgs::Transform& t) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z).normalized().toRotationMatrix();
+  T.translation() = Eigen::Vector3d(t.translation.x, t.translation.y, t.translation.z);
+  return T;
 }
 
 }  // namespace iraf_vo

@@ -1,6 +1,8 @@
 // rostest of EnhanceNodelet: encodings, bad input, lazy subscription, live dynamic_reconfigure.
 #include <gtest/gtest.h>
 
+#include "common/wait_for.h"
+
 #include <dynamic_reconfigure/client.h>
 #include <ros/ros.h>
 #include <sensor_msgs/Image.h>
@@ -17,6 +19,7 @@
 #include "iraf_vo/EnhanceStats.h"
 
 namespace enc = sensor_msgs::image_encodings;
+using iraf_vo::test::waitFor;
 
 class EnhanceNodeletTest : public ::testing::Test {
  protected:
@@ -38,15 +41,6 @@ class EnhanceNodeletTest : public ::testing::Test {
   // roscpp overwrites header.seq on publish, so frames are identified by their stamp.
   static ros::Time stampOf(uint32_t id) { return ros::Time(1000.0 + id * 0.05); }
   static uint32_t idOf(const ros::Time& t) { return static_cast<uint32_t>(std::lround((t.toSec() - 1000.0) / 0.05)); }
-
-  bool waitFor(const std::function<bool()>& cond, double seconds) {
-    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
-    while (ros::WallTime::now() < end) {
-      if (cond()) return true;
-      ros::WallDuration(0.01).sleep();
-    }
-    return cond();
-  }
 
   // Publishes `img` (converted to `encoding`) with stamp stampOf(id); returns the enhanced output or null.
   sensor_msgs::ImageConstPtr roundTrip(const cv::Mat& gray, const std::string& encoding, uint32_t id, double timeout = 5.0) {

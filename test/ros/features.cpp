@@ -2,6 +2,8 @@
 // round trip to the core type), bad input dropped, debug image, live dynamic_reconfigure of a threshold.
 #include <gtest/gtest.h>
 
+#include "common/wait_for.h"
+
 #include <dynamic_reconfigure/client.h>
 #include <ros/ros.h>
 #include <sensor_msgs/Image.h>
@@ -27,6 +29,7 @@
 #include "../../src/nodelets/param_bridge.h"
 
 namespace enc = sensor_msgs::image_encodings;
+using iraf_vo::test::waitFor;
 
 class FeatureNodeletTest : public ::testing::Test {
  protected:
@@ -37,15 +40,6 @@ class FeatureNodeletTest : public ::testing::Test {
 
   static ros::Time stampOf(uint32_t id) { return ros::Time(2000.0 + id * 0.05); }
   static uint32_t idOf(const ros::Time& t) { return static_cast<uint32_t>(std::lround((t.toSec() - 2000.0) / 0.05)); }
-
-  bool waitFor(const std::function<bool()>& cond, double seconds) {
-    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
-    while (ros::WallTime::now() < end) {
-      if (cond()) return true;
-      ros::WallDuration(0.01).sleep();
-    }
-    return cond();
-  }
 
   void publish(const cv::Mat& gray, const std::string& encoding, uint32_t id) {
     sensor_msgs::Image m;

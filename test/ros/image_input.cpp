@@ -3,6 +3,8 @@
 // ("theora") or that do not exist ("bogus") log an error and fall back to raw, which still delivers; lazy
 // subscribe / shutdown; a bag written by `iraf_vo_asl_to_bag --compressed` played with `rosbag play` goes through.
 #include <gtest/gtest.h>
+
+#include "common/wait_for.h"
 #include <ros/ros.h>
 
 #include <cstdlib>
@@ -36,15 +38,7 @@ struct Received {
   }
 };
 
-template <typename Pred>
-bool waitFor(Pred pred, double seconds = 5.0) {
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
-  while (ros::ok() && ros::WallTime::now() < end) {
-    if (pred()) return true;
-    ros::WallDuration(0.01).sleep();
-  }
-  return pred();
-}
+using iraf_vo::test::waitFor;
 
 cv::Mat gradient(int w = 64, int h = 48) {
   cv::Mat img(h, w, CV_8UC1);

@@ -10,6 +10,8 @@
 //      a black-out: nothing crashes, the tracker restarts on the jump / re-initializes after the loss, tracks again.
 #include <gtest/gtest.h>
 
+#include "common/wait_for.h"
+
 #include <dynamic_reconfigure/client.h>
 #include <nav_msgs/Odometry.h>
 #include <nav_msgs/Path.h>
@@ -50,14 +52,7 @@ struct Frame {
 std::vector<Frame> g_frames;
 iraf_vo::Trajectory g_gt;
 
-bool waitFor(const std::function<bool()>& cond, double seconds) {
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
-  while (ros::WallTime::now() < end) {
-    if (cond()) return true;
-    ros::WallDuration(0.005).sleep();
-  }
-  return cond();
-}
+using iraf_vo::test::waitFor;
 
 class PipelineTest : public ::testing::Test {
  protected:

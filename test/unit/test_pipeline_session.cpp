@@ -152,3 +152,58 @@ TEST_F(SessionFixture, TrajectoryIsRecordedAndSavedAtKeyframes) {
   TrackingSession no_file(cam, p, SessionOptions());
   EXPECT_FALSE(no_file.saveTrajectory(&err));
 }
+
+// Issue 13: the events a user sees on the console (kWarn messages with a key for per-kind throttling), the counters
+// behind /diagnostics, and the covariance of the anchored pose.
+TEST_F(SessionFixture, EventsAreReportedWithKeysAndTheAnchoredCovarianceIsRotated) {
+  TrackerParams p;
+  p.mapping_thread = false;
+  TrackingSession s(cam, p, SessionOptions());
+  auto keyed = [](const SessionStep& st, const std::string& key, SessionMessage::Level level) {
+    for (const SessionMessage& m : st.messages)
+      if (m.key == key && m.level == level) return true;
+    return false;
+  };
+  bool init_seen = false;
+  SessionStep st;
+  for (int i = 0; i < 30; ++i) {
+    const FeatureFrame f = frame(i);
+    st = s.process(stampOf(i), &f);
+    if (st.result.initialized_now) {
+      EXPECT_TRUE(keyed(st, "init", SessionMessage::Level::kInfo)) << "the first initialization is not a warning";
+      init_seen = true;
+    }
+  }
+  ASSERT_TRUE(init_seen);
+  ASSERT_TRUE(st.has_pose);
+  EXPECT_EQ(st.counters.initializations, 1);
+  EXPECT_EQ(st.counters.rejected, 0);
+
+  s.requestRestart();
+  const FeatureFrame f = frame(30);
+  st = s.process(stampOf(30), &f);
+  EXPECT_TRUE(keyed(st, "restart", SessionMessage::Level::kWarn));
+  bool reinit = false;
+  for (int i = 31; i < 60 && !reinit; ++i) {
+    const FeatureFrame g = frame(i);
+    st = s.process(stampOf(i), &g);
+    reinit = keyed(st, "reinit", SessionMessage::Level::kWarn);
+  }
+  EXPECT_TRUE(reinit) << "the re-initialization after the restart is a warning";
+  for (int i = 60; i < 70 && !st.has_pose; ++i) {
+    const FeatureFrame g = frame(i);
+    st = s.process(stampOf(i), &g);
+  }
+  ASSERT_TRUE(st.has_pose);
+  // Anchored at the last pose before the restart (a rotation): same eigenvalues as the core's covariance, rotated.
+  const Eigen::Matrix3d R = (st.T_world_camera * st.result.T_w_c.inverse()).rotation();
+  Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Zero();
+  A.topLeftCorner<3, 3>() = A.bottomRightCorner<3, 3>() = R;
+  EXPECT_LT((st.covariance - A * st.result.covariance * A.transpose()).norm(), 1e-9 * st.covariance.norm());
+  EXPECT_GT((R - Eigen::Matrix3d::Identity()).norm(), 1e-3) << "the anchor should not be the identity here";
+
+  // A jump back in time is a warning with its own key.
+  const FeatureFrame g = frame(0);
+  st = s.process(stampOf(0), &g);
+  EXPECT_TRUE(keyed(st, "time_jump", SessionMessage::Level::kWarn));
+}

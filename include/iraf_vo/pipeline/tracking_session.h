@@ -7,6 +7,9 @@
 //   * last - max_out_of_order < stamp < last: late / out-of-order frame, dropped.
 //   * stamp <= last - max_out_of_order (a bag looped or was restarted): new tracker (new map, its world frame = the
 //     first camera again); the recorded trajectory restarts.
+// Events reported as kWarn messages (the nodelet's ROS_WARN): every dropped frame, a time jump, TRACKING -> LOST
+// (with the health monitor's reason when it rejected the pose), a rejected pose, a re-initialization after the first
+// one, a map reset inside the core tracker.
 // Parameters: the core Tracker takes its parameters at construction. setParams() is applied at once (new tracker)
 // while nothing is tracked yet / the tracker is lost; while tracking it waits for the next restart (time jump, or
 // requestRestart(): restarts on the next frame). A restart while tracking re-anchors the new map at the last
@@ -37,6 +40,8 @@ struct SessionCounters {
   long frames = 0, tracked = 0, lost_frames = 0, lost_events = 0, keyframes = 0, dropped = 0;
   long resets = 0;                        // map resets inside the core trackers + session restarts
   long time_resets = 0;                   // restarts after a time jump back
+  long rejected = 0;                      // poses rejected by the core's health monitor (reported LOST)
+  long initializations = 0;               // completed (re-)initializations
   int map_points = 0, map_keyframes = 0;  // of the last published map
 };
 
@@ -44,6 +49,9 @@ struct SessionMessage {
   enum class Level { kInfo, kWarn, kError };
   Level level = Level::kInfo;
   std::string text;
+  /// What happened, for per-kind console throttling: "drop", "time_jump", "lost", "rejected", "reinit", "reset",
+  /// "restart", "error".
+  std::string key;
 };
 
 /// What one frame produced: what to publish and what to log.
@@ -53,6 +61,7 @@ struct SessionStep {
   TrackResult result;
   bool has_pose = false;                                             // result.state == kTracking
   Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();  // anchored
+  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Identity();  // of T_world_camera (anchored)
   bool map_changed = false;                       // keyframe or initialization: map_points / keyframe_poses are set
   std::vector<Eigen::Vector3d> map_points;        // anchored
   std::vector<Eigen::Isometry3d> keyframe_poses;  // anchored T_world_camera, oldest first
@@ -86,7 +95,7 @@ class TrackingSession {
   void drop(SessionStep* step, SessionMessage::Level level, const std::string& why);
   void createTracker(const Eigen::Isometry3d& anchor, SessionStep* step);
   void restartAfterTimeJump(int64_t stamp_ns, SessionStep* step);
-  void countFrame(const TrackResult& r);
+  void countFrame(const TrackResult& r, SessionStep* step);
   void collectMap(SessionStep* step);
 
   CameraModelPtr camera_;

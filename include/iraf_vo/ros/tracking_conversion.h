@@ -3,6 +3,8 @@
 
 #include <geometry_msgs/Pose.h>
 #include <geometry_msgs/PoseArray.h>
+#include <geometry_msgs/TransformStamped.h>
+#include <nav_msgs/Odometry.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <std_msgs/Header.h>
 
@@ -11,6 +13,7 @@
 #include <vector>
 
 #include "iraf_vo/TrackingStatus.h"
+#include "iraf_vo/pipeline/odometry_output.h"
 #include "iraf_vo/pipeline/tracking_session.h"
 
 namespace iraf_vo {
@@ -24,5 +27,15 @@ std::string stateName(TrackingState s);
 /// The status of one processed frame: its result, the session counters, its keypoints and feature-stage time.
 iraf_vo::TrackingStatusPtr toStatusMsg(const SessionStep& step, const std_msgs::Header& header, int keypoints,
                                        double ms_features);
+/// The 1 Hz status while there is no calibration: state NOT_INITIALIZED, reason set, counters zero.
+iraf_vo::TrackingStatusPtr toNoCalibrationStatusMsg(const std::string& reason, const ros::Time& stamp);
+/// Odometry (pose + covariance, twist + covariance when known, else twist covariance[0] = -1) of header.frame_id ->
+/// child_frame.
+nav_msgs::OdometryPtr toOdometryMsg(const OdometrySample& s, const std_msgs::Header& header,
+                                    const std::string& child_frame);
+geometry_msgs::TransformStamped toTransformMsg(const Eigen::Isometry3d& T, const std_msgs::Header& header,
+                                               const std::string& child_frame);
+/// tf2 transform -> Eigen.
+Eigen::Isometry3d fromTransformMsg(const geometry_msgs::Transform& t);
 
 }  // namespace iraf_vo

@@ -1,0 +1,171 @@
+#include "iraf_vo/pipeline/run_monitor.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace iraf_vo {
+
+long StampGapCounter::update(int64_t stamp_ns) {
+  long missing = 0;
+  if (have_last_ && stamp_ns > last_ns_) {
+    const int64_t step = stamp_ns - last_ns_;
+    const double p = period();
+    if (p > 0.0 && step * 1e-9 > 1.5 * p && step * 1e-9 <= max_gap_)
+      missing = std::lround(step * 1e-9 / p) - 1;
+    if (step * 1e-9 <= max_gap_) {
+      steps_.push_back(step);
+      while (static_cast<int>(steps_.size()) > window_) steps_.pop_front();
+    }
+  }
+  if (!have_last_ || stamp_ns > last_ns_) last_ns_ = stamp_ns;
+  have_last_ = true;
+  missed_ += missing;
+  return missing;
+}
+
+double StampGapCounter::period() const {
+  if (steps_.empty()) return 0.0;
+  return *std::min_element(steps_.begin(), steps_.end()) * 1e-9;
+}
+
+void RateMeter::tick(double now) {
+  times_.push_back(now);
+  ++count_;
+  while (!times_.empty() && times_.front() < now - window_) times_.pop_front();
+}
+
+double RateMeter::rate(double now) const {
+  while (!times_.empty() && times_.front() < now - window_) times_.pop_front();
+  if (times_.size() < 2) return 0.0;
+  const double span = std::max(now - times_.front(), 1e-6);
+  return static_cast<double>(times_.size() - 1) / span;
+}
+
+bool MessageThrottle::allow(const SessionMessage& m, double now) {
+  if (m.level == SessionMessage::Level::kInfo) return true;
+  const double period = m.key == "drop" || m.key == "error" ? 5.0 : 1.0;
+  auto it = last_.find(m.key);
+  if (it != last_.end() && now - it->second < period) return false;
+  last_[m.key] = now;
+  return true;
+}
+
+SessionMessage missedFramesMessage(long missing, int64_t stamp_ns, const StampGapCounter& gaps) {
+  char buf[256];
+  std::snprintf(buf, sizeof(buf),
+                "%ld frame(s) missed before stamp %.3f (%ld in total; camera period %.1f ms): the graph cannot keep up "
+                "(queue overflow)",
+                missing, stamp_ns * 1e-9, gaps.missed(), gaps.period() * 1e3);
+  return {SessionMessage::Level::kWarn, buf, "drop"};
+}
+
+std::string trackerStatusLine(TrackingState state, int inliers, const SessionCounters& c, double fps_in,
+                              double odom_rate, long missed) {
+  char buf[320];
+  std::snprintf(buf, sizeof(buf),
+                "%s, %d inliers, %d keyframes in map (%ld created), %.1f fps in, %.1f odom/s, dropped %ld, missed %ld, "
+                "lost %ld, resets %ld, rejected %ld",
+                toString(state), inliers, c.map_keyframes, c.keyframes, fps_in, odom_rate, c.dropped, missed,
+                c.lost_events, c.resets, c.rejected);
+  return buf;
+}
+
+void HealthReport::add(const std::string& key, double value) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.2f", value);
+  add(key, std::string(buf));
+}
+
+HealthReport trackerHealth(const TrackerHealthInput& in) {
+  HealthReport r;
+  const SessionCounters& c = in.counters;
+  if (!in.no_calibration.empty()) {
+    r.level = HealthReport::kError;
+    r.summary = in.no_calibration;
+  } else if (in.state != TrackingState::kTracking) {
+    r.level = HealthReport::kWarn;
+    r.summary = toString(in.state);
+  } else if (in.missed_since_last_report > 0) {
+    r.level = HealthReport::kWarn;
+    r.summary = "tracking; " + std::to_string(in.missed_since_last_report) + " frames missed (overload)";
+  } else {
+    r.summary = "tracking";
+  }
+  r.add("camera", in.camera);
+  r.add("state", std::string(toString(in.state)));
+  r.add("input rate [Hz]", in.input_rate);
+  r.add("odometry rate [Hz]", in.odometry_rate);
+  r.add("frames", c.frames);
+  r.add("tracked", c.tracked);
+  r.add("dropped frames", c.dropped);
+  r.add("missed frames", in.missed);
+  r.add("lost events", c.lost_events);
+  r.add("resets", c.resets);
+  r.add("time resets", c.time_resets);
+  r.add("rejected poses", c.rejected);
+  r.add("last rejection", in.last_rejection);
+  r.add("keyframes in map", static_cast<long>(c.map_keyframes));
+  r.add("map points", static_cast<long>(c.map_points));
+  return r;
+}
+
+std::vector<SessionMessage> TrackerMonitor::onInput(double now, int64_t stamp_ns) {
+  in_rate_.tick(now);
+  const long missing = gaps_.update(stamp_ns);
+  if (missing <= 0) return {};
+  return {missedFramesMessage(missing, stamp_ns, gaps_)};
+}
+
+void TrackerMonitor::onStep(const SessionStep& step) {
+  if (!step.tracked_frame) return;
+  last_state_ = step.result.state;
+  if (!step.result.rejected.empty()) last_rejection_ = step.result.rejected;
+}
+
+HealthReport TrackerMonitor::health(const std::string& no_calibration, const std::string& camera,
+                                    const SessionCounters& c, double now) {
+  TrackerHealthInput in;
+  in.no_calibration = no_calibration;
+  in.camera = camera;
+  in.state = last_state_;
+  in.counters = c;
+  in.input_rate = in_rate_.rate(now);
+  in.odometry_rate = odom_rate_.rate(now);
+  in.missed = gaps_.missed();
+  in.missed_since_last_report = gaps_.missed() - reported_missed_;
+  in.last_rejection = last_rejection_;
+  reported_missed_ = gaps_.missed();
+  return trackerHealth(in);
+}
+
+std::string TrackerMonitor::statusLine(const SessionStep& step, double now) const {
+  return trackerStatusLine(step.result.state, step.result.inliers, step.counters, in_rate_.rate(now),
+                           odom_rate_.rate(now), gaps_.missed());
+}
+
+HealthReport inputHealth(const std::string& transport, const std::string& topic, double input_rate,
+                         double output_rate, long undecodable, long rejected_size, long missed,
+                         const std::string& last_problem) {
+  HealthReport r;
+  r.level = undecodable + rejected_size > 0 ? HealthReport::kWarn : HealthReport::kOk;
+  r.summary = topic.empty() ? "not subscribed (no listener)" : r.level ? "frames rejected: " + last_problem : "ok";
+  r.add("transport", transport);
+  r.add("topic", topic);
+  r.add("input rate [Hz]", input_rate);
+  r.add("output rate [Hz]", output_rate);
+  r.add("undecodable frames", undecodable);
+  r.add("rejected frames (size)", rejected_size);
+  r.add("missed frames", missed);
+  r.add("last problem", last_problem);
+  return r;
+}
+
+std::string calibrationReason(const std::string& camera_file, const std::string& file_error,
+                              const std::string& info_topic, const std::string& info_error) {
+  if (!camera_file.empty()) return "no calibration: ~camera_file " + camera_file + ": " + file_error;
+  if (!info_error.empty()) return "no calibration: invalid camera_info on " + info_topic + ": " + info_error;
+  return "no calibration: waiting for camera_info on " + info_topic + " (~camera_file is empty)";
+}
+
+}  // namespace iraf_vo
