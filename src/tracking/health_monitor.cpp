@@ -10,6 +10,7 @@ namespace iraf_vo {
 namespace {
 
 constexpr size_t kHistory = 5;
+constexpr size_t kMinHistory = 3;
 
 double median(std::deque<double> v) {
   if (v.empty()) return 0.0;
@@ -50,7 +51,9 @@ std::string TrackingHealthMonitor::check(const HealthInput& in) const {
     why << "local BA changed the map scale by a factor " << in.ba_scale_change;
     return why.str();
   }
-  if (!in.have_motion_model || speeds_.empty()) return "";
+  // The motion model needs a few frames to settle (after initialization its velocity is the average over the
+  // initialization baseline).
+  if (!in.have_motion_model || speeds_.size() < kMinHistory) return "";
   const double floor = p_.health_min_accel_depth * in.median_depth;
   const double deviation = (in.T_w_c.translation() - in.T_w_predicted.translation()).norm();
   const double limit = p_.health_max_accel_ratio * median(speeds_) + floor;
@@ -61,7 +64,7 @@ std::string TrackingHealthMonitor::check(const HealthInput& in) const {
   // A camera cannot reverse its direction within one frame at speed (swapped / out-of-order frames).
   const Eigen::Vector3d v_model = in.T_w_predicted.translation() - in.T_w_last.translation();
   const Eigen::Vector3d v_now = in.T_w_c.translation() - in.T_w_last.translation();
-  const double reverse_floor = 0.25 * floor;
+  const double reverse_floor = 0.5 * floor;
   if (v_model.norm() > reverse_floor && v_now.norm() > reverse_floor &&
       v_now.dot(v_model) < -0.5 * v_now.norm() * v_model.norm()) {
     why << "motion jump: direction reversed within one frame at speed " << v_now.norm();

@@ -10,12 +10,12 @@
 //                   the last frames) + health_min_accel_depth * (median scene depth), or the rotation differs
 //                   from the predicted one by more than health_max_rot_accel_deg + health_max_accel_ratio *
 //                   (median per-frame rotation), or the camera reverses its direction against the motion model
-//                   while both move faster than a quarter of that floor
+//                   while both move faster than half of that floor
 //                   (swapped frames, a frame from another place, a jump of the camera)
 //   map scale       the last local BA changed the window's extent by more than a factor health_max_ba_scale_change
 //                   (tracking and local BA disagree on the scale)
 // The motion history restarts after every loss or (re-)initialization: until the motion model exists again
-// (two tracked frames) a frame is only checked for inliers and reprojection.
+// and three frames of motion history exist, a frame is only checked for inliers and reprojection.
 #pragma once
 
 #include <iraf_vo/tracking/tracker_params.h>
