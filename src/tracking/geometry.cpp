@@ -375,42 +375,6 @@ int optimizePose(const CameraModel& cam, const std::vector<Eigen::Vector3d>& p_w
   return n_inliers;
 }
 
-Eigen::Matrix<double, 6, 6> poseInformation(const CameraModel& cam, const std::vector<Eigen::Vector3d>& p_w,
-                                            const std::vector<Eigen::Vector2d>& uv, const std::vector<double>& sigma,
-                                            const Eigen::Isometry3d& T_c_w) {
-  Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
-  const Eigen::Matrix3d R = T_c_w.rotation();
-  for (size_t i = 0; i < p_w.size(); ++i) {
-    const Eigen::Vector3d Rp = R * p_w[i];
-    const Eigen::Vector3d pc = Rp + T_c_w.translation();
-    Eigen::Vector2d pr;
-    Eigen::Matrix<double, 2, 3> J;
-    if (pc.z() <= 1e-6 || !cam.project(pc, &pr, &J)) continue;
-    Eigen::Matrix<double, 2, 6> Jp;
-    Jp.leftCols<3>() = J / sigma[i];
-    Jp.rightCols<3>() = -Jp.leftCols<3>() * skew(Rp);
-    H.noalias() += Jp.transpose() * Jp;
-  }
-  return H;
-}
-
-Eigen::Matrix<double, 6, 6> worldPoseCovariance(const Eigen::Matrix<double, 6, 6>& information,
-                                                const Eigen::Isometry3d& T_c_w) {
-  // c = -R^T t. With t' = t + dt, R' = Exp(dtheta) R: dc = -R^T (dt + [t]x dtheta); the world-frame rotation
-  // perturbation of R_wc = R^T is -R^T dtheta.
-  const Eigen::Matrix3d Rt = T_c_w.rotation().transpose();
-  Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Zero();
-  A.topLeftCorner<3, 3>() = -Rt;
-  A.topRightCorner<3, 3>() = -Rt * skew(T_c_w.translation());
-  A.bottomRightCorner<3, 3>() = -Rt;
-  // Regularized inverse: a pose seen by too few / degenerate points gets a large but finite covariance.
-  Eigen::Matrix<double, 6, 6> Hr = information;
-  Hr.diagonal().array() += 1e-9 * std::max(1.0, information.diagonal().maxCoeff());
-  const Eigen::Matrix<double, 6, 6> C = Hr.ldlt().solve(Eigen::Matrix<double, 6, 6>::Identity());
-  Eigen::Matrix<double, 6, 6> out = A * C * A.transpose();
-  return 0.5 * (out + out.transpose());
-}
-
 double reprojectionRmse(const CameraModel& cam, const std::vector<BAKeyframe>& kfs, const std::vector<BAPoint>& pts,
                         const std::vector<BAObservation>& obs) {
   if (obs.empty()) return 0.0;
