@@ -1,5 +1,6 @@
 #include <iraf_vo/tracking/local_mapper.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace iraf_vo {
@@ -142,7 +143,11 @@ void LocalMapper::localBundleAdjustment() {
   if (prob.observations.empty()) return;
   BAOptions options;
   options.max_num_iterations = p_.ba_max_num_iterations;
-  options.max_solver_time_in_seconds = p_.ba_max_solver_time_in_seconds;
+  // The time budget is CPU time of this thread: a wall-clock budget shrinks with the machine's load (at a load
+  // of ~10 on 2 cores BA stopped after 0-1 iterations, the map stayed unoptimized and the scale drifted / collapsed
+  // in some runs). The wall clock only bounds pathological cases.
+  options.max_cpu_seconds = p_.ba_max_solver_time_in_seconds;
+  options.max_solver_time_in_seconds = std::max(2.0, 20.0 * p_.ba_max_solver_time_in_seconds);
   options.huber_delta = p_.ba_huber_delta;
   options.abort = p_.mapping_thread ? &abort_ba_ : nullptr;
   BASummary summary;

@@ -7,8 +7,10 @@
 //   best covisible keyframes (unmatched keypoints, Hamming <= match_threshold_low, epipolar check on bearings,
 //   cheirality, reprojection chi2, min_triangulation_parallax_deg), then sliding-window BA when no other
 //   keyframe is waiting or ba_every_keyframes keyframes were processed since the last BA.
-// BA: Huber loss on sigma-normalized pixel residuals, bounded by ba_max_num_iterations /
-//   ba_max_solver_time_in_seconds, aborted when a new keyframe arrives if ba_abort_on_keyframe; results are
+// Threaded: the tracking thread usually triangulated the keyframe already (triangulate_in_tracking; claimed
+//   once per keyframe), the mapping thread then culls, updates descriptors and runs BA.
+// BA: Huber loss on sigma-normalized pixel residuals, bounded by ba_max_num_iterations and by
+//   ba_max_solver_time_in_seconds of CPU time of the mapping thread (not wall clock: load-independent), aborted when a new keyframe arrives if ba_abort_on_keyframe; results are
 //   merged under the map mutex; observations failing chi2 afterwards are removed.
 #pragma once
 
