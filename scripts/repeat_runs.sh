@@ -4,8 +4,9 @@
 # that threaded mapping is reproducible (issue 11 step 5).
 #
 # usage: scripts/repeat_runs.sh [-n RUNS] [-j PARALLEL] [-b BIN_DIR] [-o OUT_DIR] SEQUENCE [-- iraf_vo_run args]
-#   SEQUENCE: euroc (= ../shared/data/euroc_mh01_600, frames 0-305, cam0 ground truth) or a simulator output
-#             folder (iraf_vo_simulate --out DIR; ground truth DIR/groundtruth.txt)
+#   SEQUENCE: euroc (= ../shared/data/euroc_mh01_600, frames 0-305, cam0 ground truth), euroc:DIR (an
+#             iraf_vo_degrade copy of it, frames 0-305, the same ground truth) or a simulator output folder
+#             (iraf_vo_simulate --out DIR; ground truth DIR/groundtruth.txt)
 #   -b BIN_DIR: folder with iraf_vo_run (default: build/devel/lib/iraf_vo of this checkout); a copied binary can
 #             be used with its libraries through LD_LIBRARY_PATH (RUNPATH)
 #   extra args after --, e.g. -- --set tracker.mapping_thread=false --mode baseline
@@ -23,11 +24,17 @@ shift $((OPTIND - 1))
 [ $# -ge 1 ] || { sed -n 2,12p "$0"; exit 2; }
 seq_arg=$1; shift
 [ "${1:-}" = "--" ] && shift
-if [ "$seq_arg" = euroc ]; then
-  ds="$here/../shared/data/euroc_mh01_600"
-  [ -d "$ds" ] || ds=/work/shared/data/euroc_mh01_600
-  seq_args=(--dataset "$ds" --gt "$ds/groundtruth/groundtruth_tum_cam0.txt" --frames 306)
+if [ "$seq_arg" = euroc ] || [[ "$seq_arg" == euroc:* ]]; then
+  ds="${seq_arg#euroc:}"
+  if [ "$ds" = euroc ]; then
+    ds="$here/../shared/data/euroc_mh01_600"
+    [ -d "$ds" ] || ds=/work/shared/data/euroc_mh01_600
+  fi
+  gt="$ds/groundtruth/groundtruth_tum_cam0.txt"
+  [ -f "$gt" ] || gt="$here/../shared/data/euroc_mh01_600/groundtruth/groundtruth_tum_cam0.txt"
+  seq_args=(--dataset "$ds" --gt "$gt" --frames 306)
   name=euroc
+  [ "$seq_arg" = euroc ] || name=$(basename "$ds")
 else
   seq_args=(--dataset "$seq_arg" --gt "$seq_arg/groundtruth.txt")
   name=$(basename "$seq_arg")
