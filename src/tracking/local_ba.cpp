@@ -87,7 +87,6 @@ LocalBAProblem Map::localBAProblem(int window_size, double min_fixed_span) const
 }
 
 void Map::applyLocalBA(const LocalBAProblem& prob, const BASummary& summary) {
-  std::lock_guard<std::mutex> update(update_mutex_);
   std::lock_guard<std::mutex> lk(mutex_);
   // correction[kf id] maps the pre-BA world to the optimized one for things anchored at that keyframe:
   // p_new = T_new^-1 * T_old * p_old (identity for fixed keyframes).

@@ -58,6 +58,8 @@ void LocalMapper::clearQueue() {
     abort_ba_ = true;
   }
   waitUntilIdle();
+  std::lock_guard<std::mutex> lk(queue_mutex_);
+  pending_ba_.reset();
 }
 
 LocalMapperStats LocalMapper::stats() const {
@@ -94,12 +96,30 @@ void LocalMapper::run() {
   }
 }
 
-void LocalMapper::processKeyframe(long kf_id, bool run_ba) {
+bool LocalMapper::deferred() const { return p_.mapping_thread && p_.ba_deferred_commit; }
+
+void LocalMapper::mapKeyframe(long kf_id) {
   map_->cullRecentPoints(kf_id, p_.min_found_ratio);
   map_->updateDescriptors(kf_id);
   createNewMapPoints(kf_id);
+}
+
+void LocalMapper::processKeyframe(long kf_id, bool run_ba) {
+  if (!deferred()) mapKeyframe(kf_id);
   if (run_ba && !(p_.mapping_thread && p_.ba_abort_on_keyframe && abort_ba_.load())) localBundleAdjustment();
+  if (!deferred()) map_->dropOldKeyframes(p_.max_map_keyframes);
+}
+
+void LocalMapper::mapKeyframeInTracking(long kf_id) {
+  waitUntilIdle();
+  std::unique_ptr<PendingBA> done;
+  {
+    std::lock_guard<std::mutex> lk(queue_mutex_);
+    done.swap(pending_ba_);
+  }
+  if (done) map_->applyLocalBA(done->problem, done->summary);
   map_->dropOldKeyframes(p_.max_map_keyframes);
+  mapKeyframe(kf_id);
 }
 
 void LocalMapper::createNewMapPoints(long kf_id) {
@@ -158,7 +178,14 @@ void LocalMapper::localBundleAdjustment() {
     stats_.ba_ms_total += summary.ms;
     stats_.ba_final_rmse_px = summary.final_rmse_px;
   }
-  if (ok) map_->applyLocalBA(prob, summary);
+  if (!ok) return;
+  if (deferred()) {  // committed by the tracking thread at its next keyframe (mapKeyframeInTracking)
+    std::lock_guard<std::mutex> lk(queue_mutex_);
+    pending_ba_.reset(new PendingBA{std::move(prob), std::move(summary)});
+    return;
+  }
+  auto update = map_->lockUpdates();
+  map_->applyLocalBA(prob, summary);
 }
 
 }  // namespace iraf_vo

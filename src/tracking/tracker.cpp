@@ -112,6 +112,7 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in) {
       s.initializations++;
       s.keyframes += 2;
     });
+    if (p.mapping_thread && p.ba_deferred_commit) mapper.mapKeyframeInTracking(last_kf_id);
     onTracked(cur, &res, true);  // before the mapper can move the keyframe: the last frame follows its BA
     t0 = Clock::now();
     mapper.insertKeyframe(last_kf_id);
@@ -210,7 +211,9 @@ bool Tracker::Impl::addKeyframeIfNeeded(const Frame& cur, TrackResult* res) {
   // match them, as with synchronous mapping. Left to a mapping thread that lags behind under load, the tracker
   // ran on a map missing the newest points (fast motion: 100-150 instead of 270-380 inliers), keyframes came
   // only when the map was being lost and the monocular scale collapsed in some runs.
-  if (p.mapping_thread && (p.triangulate_in_tracking || res->inliers < p.starving_inliers))
+  if (p.mapping_thread && p.ba_deferred_commit)
+    mapper.mapKeyframeInTracking(last_kf_id);  // + writes back the previous BA (see LocalMapper)
+  else if (p.mapping_thread && (p.triangulate_in_tracking || res->inliers < p.starving_inliers))
     mapper.createNewMapPoints(last_kf_id);
   return true;
 }

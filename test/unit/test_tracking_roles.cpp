@@ -242,6 +242,7 @@ TEST(LocalMapperTest, ThreadProcessesQueueStopsAndResets) {
   test::TestPinhole cam(640, 480, 500, 320, 240);
   TrackerParams p;
   p.mapping_thread = true;
+  p.ba_deferred_commit = false;  // the thread maps, runs BA and writes back itself
   p.max_map_keyframes = 4;
   p.ba_window_size = 3;
   HandBuiltMap hb(30, 4);  // 6 keyframes
@@ -269,6 +270,47 @@ TEST(LocalMapperTest, ThreadProcessesQueueStopsAndResets) {
     for (int k = 0; k < 3; ++k) mapper.insertKeyframe(hb.map.keyframePoses().back().id);
   });
   EXPECT_EQ(done.wait_for(std::chrono::seconds(30)), std::future_status::ready);
+}
+
+// Deferred commit (the default with a mapping thread): the thread only runs BA; its result reaches the map when
+// the tracking thread maps its next keyframe, never in between (so frames see a map independent of timing).
+TEST(LocalMapperTest, DeferredCommitWritesBAOnlyAtTheNextKeyframe) {
+  test::TestPinhole cam(640, 480, 500, 320, 240);
+  TrackerParams p;
+  p.mapping_thread = true;
+  p.ba_deferred_commit = true;
+  p.ba_window_size = 3;
+  HandBuiltMap hb(30, 4);  // 6 keyframes on a line, all points at z = 2
+  Eigen::Isometry3d T_before;
+  ASSERT_TRUE(hb.map.keyframePose(hb.kf_ids.back(), &T_before));
+  // Disturb the newest keyframe so that BA moves it.
+  {
+    auto lk = hb.map.lockUpdates();
+    hb.map.applyLocalBA([&] {
+      LocalBAProblem prob = hb.map.localBAProblem(1, 0.0);
+      prob.keyframes[0].T_c_w.translation() += Eigen::Vector3d(0.02, 0.0, 0.0);
+      return prob;
+    }(), [&] {
+      BASummary s;
+      s.outlier.assign(hb.map.localBAProblem(1, 0.0).observations.size(), 0);
+      return s;
+    }());
+  }
+  Eigen::Isometry3d T_disturbed;
+  ASSERT_TRUE(hb.map.keyframePose(hb.kf_ids.back(), &T_disturbed));
+  ASSERT_FALSE(T_disturbed.isApprox(T_before, 1e-6));
+  LocalMapper mapper(cam, p, &hb.map);
+  mapper.insertKeyframe(hb.kf_ids.back());
+  mapper.waitUntilIdle();
+  EXPECT_GE(mapper.stats().ba_runs, 1);
+  Eigen::Isometry3d T_after_ba;
+  ASSERT_TRUE(hb.map.keyframePose(hb.kf_ids.back(), &T_after_ba));
+  EXPECT_TRUE(T_after_ba.isApprox(T_disturbed, 1e-12)) << "BA result not written back by the thread";
+  const long next = hb.map.addKeyframe(gridFrame(60, 30, 0.8));
+  mapper.mapKeyframeInTracking(next);
+  Eigen::Isometry3d T_committed;
+  ASSERT_TRUE(hb.map.keyframePose(hb.kf_ids.back(), &T_committed));
+  EXPECT_FALSE(T_committed.isApprox(T_disturbed, 1e-9)) << "BA result committed at the next keyframe";
 }
 
 TEST(LocalMapperTest, SynchronousMappingProcessesInline) {

@@ -22,6 +22,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <deque>
+#include <memory>
 #include <mutex>
 #include <thread>
 
@@ -52,10 +53,21 @@ class LocalMapper {
   void clearQueue();
   /// Triangulates the keyframe's new points (once per keyframe; the tracker calls it when the map starves).
   void createNewMapPoints(long kf_id);
+  /// Deferred commit (mapping_thread && ba_deferred_commit), called by the tracking thread for a new keyframe
+  /// (holding Map::lockUpdates): waits for the running BA, writes its result back, bounds the map, then culls,
+  /// updates descriptors and triangulates for kf_id. The thread then only runs BA (insertKeyframe). Every
+  /// frame thus sees a map that does not depend on thread timing.
+  void mapKeyframeInTracking(long kf_id);
   LocalMapperStats stats() const;
 
  private:
+  struct PendingBA {
+    LocalBAProblem problem;
+    BASummary summary;
+  };
   void run();
+  bool deferred() const;
+  void mapKeyframe(long kf_id);  // cull, descriptors, triangulation
   void processKeyframe(long kf_id, bool run_ba);
   void localBundleAdjustment();
 
@@ -70,6 +82,7 @@ class LocalMapper {
   bool busy_ = false, stop_ = false;
   int keyframes_since_ba_ = 0;  // mapping thread only
   std::atomic<bool> abort_ba_{false};
+  std::unique_ptr<PendingBA> pending_ba_;  // deferred commit: the last BA result (guarded by queue_mutex_)
   std::thread thread_;
 
   mutable std::mutex stats_mutex_;

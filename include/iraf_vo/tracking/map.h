@@ -135,7 +135,8 @@ class Map {
   /// The sliding-window BA problem of the newest window_size keyframes (see local_ba.h).
   LocalBAProblem localBAProblem(int window_size, double min_fixed_span) const;
   /// Writes the optimized poses / points back, moves keyframes / points added since the problem was built with
-  /// their anchor's correction (local_ba.h) and removes observations flagged as outliers. Takes lockUpdates().
+  /// their anchor's correction (local_ba.h) and removes observations flagged as outliers. The caller holds
+  /// lockUpdates() (the mapping thread) or is the tracking thread.
   void applyLocalBA(const LocalBAProblem& problem, const BASummary& summary);
   void dropOldKeyframes(int max_keyframes);
 

@@ -46,6 +46,9 @@ struct TrackerParams {
   bool triangulate_in_tracking = true;  // mapping_thread = true: track() triangulates every new keyframe's points
                                         // (as synchronous mapping does; the mapping thread culls, updates
                                         // descriptors and runs BA); false: only below starving_inliers
+  bool ba_deferred_commit = true;       // mapping_thread = true: the mapping thread only runs BA; the tracking
+                                        // thread writes its result back at the next keyframe (waiting for it) and
+                                        // culls / triangulates itself: results independent of thread timing
   int sync_mapping_busy_frames = 3;     // the keyframe policy treats mapping as busy for this many frames after a
                                         // keyframe (synchronous and threaded mapping: the threaded mapper's real
                                         // state made the keyframes depend on the machine's load)
