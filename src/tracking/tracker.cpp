@@ -202,6 +202,8 @@ bool Tracker::Impl::addKeyframeIfNeeded(const Frame& cur, TrackResult* res) {
     c.mapping_idle = frames_since_kf >= p.sync_mapping_busy_frames;
   }
   if (!needNewKeyframe(c, p)) return false;
+  // Deferred commit: the running BA took its snapshot before this keyframe exists (same window every run).
+  if (p.mapping_thread && p.ba_deferred_commit) mapper.waitUntilIdle();
   last_kf_id = map.addKeyframe(cur);
   updateStats([](TrackerStats& s) { s.keyframes++; });
   frames_since_kf = 0;
