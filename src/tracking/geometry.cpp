@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <limits>
 #include <memory>
 
@@ -147,15 +148,32 @@ class PoseOnlyCost final : public ceres::SizedCostFunction<2, 7> {
   double inv_sigma_;
 };
 
+double threadCpuSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+// Stops the solver between iterations when the abort flag is set or the calling thread used max_cpu_seconds of
+// CPU time since construction (a load-independent budget: the wall clock grows with the machine's load).
 class AbortCallback final : public ceres::IterationCallback {
  public:
-  explicit AbortCallback(const std::atomic<bool>* flag) : flag_(flag) {}
+  AbortCallback(const std::atomic<bool>* flag, double max_cpu_seconds)
+      : flag_(flag), max_cpu_(max_cpu_seconds), cpu0_(threadCpuSeconds()) {}
   ceres::CallbackReturnType operator()(const ceres::IterationSummary&) override {
-    return (flag_ && flag_->load()) ? ceres::SOLVER_TERMINATE_SUCCESSFULLY : ceres::SOLVER_CONTINUE;
+    if (flag_ && flag_->load()) return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
+    if (max_cpu_ > 0.0 && threadCpuSeconds() - cpu0_ > max_cpu_) {
+      cpu_budget_hit = true;
+      return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
+    }
+    return ceres::SOLVER_CONTINUE;
   }
+  bool cpu_budget_hit = false;
 
  private:
   const std::atomic<bool>* flag_;
+  double max_cpu_;
+  double cpu0_;
 };
 
 }  // namespace
@@ -440,12 +458,14 @@ bool bundleAdjust(const CameraModel& cam, std::vector<BAKeyframe>* kfs, std::vec
     so.max_solver_time_in_seconds = options.max_solver_time_in_seconds;
     so.num_threads = std::max(1, options.num_threads);
     so.logging_type = ceres::SILENT;
-    AbortCallback cb(options.abort);
-    if (options.abort) so.callbacks.push_back(&cb);
+    AbortCallback cb(options.abort, options.max_cpu_seconds);
+    if (options.abort || options.max_cpu_seconds > 0.0) so.callbacks.push_back(&cb);
     ceres::Solver::Summary s;
     ceres::Solve(so, &problem, &s);
     ok = s.IsSolutionUsable();
     sum.iterations = static_cast<int>(s.iterations.size());
+    sum.cpu_budget_hit = cb.cpu_budget_hit;
+    sum.time_limit_hit = s.termination_type == ceres::NO_CONVERGENCE && s.message.find("time") != std::string::npos;
     if (ok) {
       for (size_t k = 0; k < kfs->size(); ++k)
         if (!(*kfs)[k].fixed) (*kfs)[k].T_c_w = blockToPose(&poses[7 * k]);

@@ -42,6 +42,8 @@ LocalBAProblem Map::localBAProblem(int window_size, double min_fixed_span) const
   LocalBAProblem prob;
   std::lock_guard<std::mutex> lk(mutex_);
   if (keyframes_.size() < 2) return prob;
+  prob.next_keyframe_id = next_keyframe_id_;
+  prob.next_point_id = next_point_id_;
   std::unordered_map<long, int> kf_index;
   int nwin = 0;
   for (auto it = keyframes_.rbegin(); it != keyframes_.rend() && nwin < window_size; ++it, ++nwin) {
@@ -95,14 +97,36 @@ LocalBAProblem Map::localBAProblem(int window_size, double min_fixed_span) const
 
 void Map::applyLocalBA(const LocalBAProblem& prob, const BASummary& summary) {
   std::lock_guard<std::mutex> lk(mutex_);
+  // correction[kf id] maps the pre-BA world to the optimized one for things anchored at that keyframe:
+  // p_new = T_new^-1 * T_old * p_old (identity for fixed keyframes).
+  std::unordered_map<long, Eigen::Isometry3d> correction;
   for (size_t k = 0; k < prob.keyframe_ids.size(); ++k) {
     if (prob.keyframes[k].fixed) continue;
     auto it = keyframes_.find(prob.keyframe_ids[k]);
-    if (it != keyframes_.end()) it->second->T_c_w = prob.keyframes[k].T_c_w;
+    if (it == keyframes_.end()) continue;
+    correction[it->first] = prob.keyframes[k].T_c_w.inverse() * it->second->T_c_w;
+    it->second->T_c_w = prob.keyframes[k].T_c_w;
   }
   for (size_t i = 0; i < prob.point_ids.size(); ++i) {
     auto it = points_.find(prob.point_ids[i]);
     if (it != points_.end()) it->second->p_w = prob.points[i].p_w;
+  }
+  // Added while BA ran: keyframes (posed against the pre-BA map) follow the newest window keyframe; points
+  // follow the keyframe that created them (if it was optimized) or the newest window keyframe.
+  const auto newest = prob.keyframe_ids.empty() ? correction.end() : correction.find(prob.keyframe_ids[0]);
+  if (newest != correction.end()) {
+    const Eigen::Isometry3d C_newest = newest->second;
+    for (auto it = keyframes_.lower_bound(prob.next_keyframe_id); it != keyframes_.end(); ++it) {
+      it->second->T_c_w = it->second->T_c_w * C_newest.inverse();
+      correction[it->first] = C_newest;
+    }
+  }
+  if (!correction.empty()) {
+    for (auto& kv : points_) {
+      if (kv.first < prob.next_point_id) continue;
+      auto c = correction.find(kv.second->first_kf);
+      if (c != correction.end()) kv.second->p_w = c->second * kv.second->p_w;
+    }
   }
   for (size_t j = 0; j < prob.observations.size(); ++j) {
     if (!summary.outlier[j]) continue;

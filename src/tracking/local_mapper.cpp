@@ -1,5 +1,6 @@
 #include <iraf_vo/tracking/local_mapper.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace iraf_vo {
@@ -57,6 +58,8 @@ void LocalMapper::clearQueue() {
     abort_ba_ = true;
   }
   waitUntilIdle();
+  std::lock_guard<std::mutex> lk(queue_mutex_);
+  pending_ba_.reset();
 }
 
 LocalMapperStats LocalMapper::stats() const {
@@ -93,12 +96,30 @@ void LocalMapper::run() {
   }
 }
 
-void LocalMapper::processKeyframe(long kf_id, bool run_ba) {
+bool LocalMapper::deferred() const { return p_.mapping_thread && p_.ba_deferred_commit; }
+
+void LocalMapper::mapKeyframe(long kf_id) {
   map_->cullRecentPoints(kf_id, p_.min_found_ratio);
   map_->updateDescriptors(kf_id);
   createNewMapPoints(kf_id);
+}
+
+void LocalMapper::processKeyframe(long kf_id, bool run_ba) {
+  if (!deferred()) mapKeyframe(kf_id);
   if (run_ba && !(p_.mapping_thread && p_.ba_abort_on_keyframe && abort_ba_.load())) localBundleAdjustment();
+  if (!deferred()) map_->dropOldKeyframes(p_.max_map_keyframes);
+}
+
+void LocalMapper::mapKeyframeInTracking(long kf_id) {
+  waitUntilIdle();
+  std::unique_ptr<PendingBA> done;
+  {
+    std::lock_guard<std::mutex> lk(queue_mutex_);
+    done.swap(pending_ba_);
+  }
+  if (done) map_->applyLocalBA(done->problem, done->summary);
   map_->dropOldKeyframes(p_.max_map_keyframes);
+  mapKeyframe(kf_id);
 }
 
 void LocalMapper::createNewMapPoints(long kf_id) {
@@ -142,7 +163,11 @@ void LocalMapper::localBundleAdjustment() {
   if (prob.observations.empty()) return;
   BAOptions options;
   options.max_num_iterations = p_.ba_max_num_iterations;
-  options.max_solver_time_in_seconds = p_.ba_max_solver_time_in_seconds;
+  // The time budget is CPU time of this thread: a wall-clock budget shrinks with the machine's load (at a load
+  // of ~10 on 2 cores BA stopped after 0-1 iterations, the map stayed unoptimized and the scale drifted / collapsed
+  // in some runs). The wall clock only bounds pathological cases.
+  options.max_cpu_seconds = p_.ba_max_solver_time_in_seconds;
+  options.max_solver_time_in_seconds = std::max(2.0, 20.0 * p_.ba_max_solver_time_in_seconds);
   options.huber_delta = p_.ba_huber_delta;
   options.abort = p_.mapping_thread ? &abort_ba_ : nullptr;
   BASummary summary;
@@ -155,8 +180,14 @@ void LocalMapper::localBundleAdjustment() {
     stats_.ba_final_rmse_px = summary.final_rmse_px;
   }
   if (!ok) return;
-  map_->applyLocalBA(prob, summary);
   recordScaleChange(before, prob);
+  if (deferred()) {  // committed by the tracking thread at its next keyframe (mapKeyframeInTracking)
+    std::lock_guard<std::mutex> lk(queue_mutex_);
+    pending_ba_.reset(new PendingBA{std::move(prob), std::move(summary)});
+    return;
+  }
+  auto update = map_->lockUpdates();
+  map_->applyLocalBA(prob, summary);
 }
 
 void LocalMapper::recordScaleChange(double extent_before, const LocalBAProblem& after) {

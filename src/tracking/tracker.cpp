@@ -77,7 +77,7 @@ struct Tracker::Impl {
   Eigen::Matrix<double, 6, 6> initialPoseInformation(const Frame& cur) const;
   std::string checkHealth(const Frame& cur, const PoseTrackingResult& r, const Eigen::Isometry3d& T_last,
                           const Eigen::Isometry3d& T_predicted);
-  void insertKeyframeIfNeeded(const Frame& cur, TrackResult* res);
+  bool addKeyframeIfNeeded(const Frame& cur, TrackResult* res);
   void handleLostFrame(const Frame& cur);
   void resetMap();
   void onTracked(const Frame& cur, TrackResult* res, bool is_keyframe);
@@ -120,17 +120,22 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in) {
       s.initializations++;
       s.keyframes += 2;
     });
+    if (p.mapping_thread && p.ba_deferred_commit) mapper.mapKeyframeInTracking(last_kf_id);
+    onTracked(cur, &res, true);  // before the mapper can move the keyframe: the last frame follows its BA
     t0 = Clock::now();
     mapper.insertKeyframe(last_kf_id);
     res.timing.ms_keyframe = msSince(t0);
-    onTracked(cur, &res, true);
     res.timing.ms_total = msSince(t_start);
     return res;
   }
 
   // kTracking or kLost (relocalization attempts before the reset)
   if (state == TrackingState::kLost) have_velocity = false;
+  // One tracking step sees one version of the map: a BA result is written back before or after it, never
+  // between the pose estimate, the keyframe created from it and T_last_rel_kf (see Map::lockUpdates).
+  std::unique_lock<std::mutex> map_update = map.lockUpdates();
   if (!trackWithMotionModel(cur, &res)) {
+    map_update.unlock();
     health.restart();
     handleLostFrame(cur);
     return notTracked(TrackingState::kLost, t_start, res);
@@ -139,9 +144,11 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in) {
   consecutive_lost = 0;
   ++frames_since_kf;
   t0 = Clock::now();
-  insertKeyframeIfNeeded(cur, &res);
-  res.timing.ms_keyframe = msSince(t0);
+  const bool new_keyframe = addKeyframeIfNeeded(cur, &res);
   onTracked(cur, &res, res.is_keyframe);
+  map_update.unlock();
+  if (new_keyframe) mapper.insertKeyframe(last_kf_id);  // may wait (back-pressure) or map (synchronous)
+  res.timing.ms_keyframe = msSince(t0);
   res.timing.ms_total = msSince(t_start);
   return res;
 }
@@ -169,22 +176,6 @@ bool Tracker::Impl::initializeMap(Frame& cur, TrackResult* res) {
   velocity.translation() = T_rel.translation() / nframes;
   have_velocity = true;
   return true;
-}
-
-Eigen::Matrix<double, 6, 6> Tracker::Impl::initialPoseInformation(const Frame& cur) const {
-  std::unordered_map<long, Eigen::Vector3d> position;
-  for (const LocalPoint& lp : map.localPoints()) position[lp.id] = lp.p_w;
-  std::vector<Eigen::Vector3d> P;
-  std::vector<Eigen::Vector2d> uv;
-  std::vector<double> sigma;
-  for (size_t i = 0; i < cur.size(); ++i) {
-    auto it = position.find(cur.point_id[i]);
-    if (it == position.end()) continue;
-    P.push_back(it->second);
-    uv.emplace_back(cur.keypoints[i].pt.x, cur.keypoints[i].pt.y);
-    sigma.push_back(cur.sigma(cur.keypoints[i].octave));
-  }
-  return poseInformation(*cam, P, uv, sigma, cur.T_c_w);
 }
 
 bool Tracker::Impl::trackWithMotionModel(Frame& cur, TrackResult* res) {
@@ -217,6 +208,22 @@ bool Tracker::Impl::trackWithMotionModel(Frame& cur, TrackResult* res) {
   return true;
 }
 
+Eigen::Matrix<double, 6, 6> Tracker::Impl::initialPoseInformation(const Frame& cur) const {
+  std::unordered_map<long, Eigen::Vector3d> position;
+  for (const LocalPoint& lp : map.localPoints()) position[lp.id] = lp.p_w;
+  std::vector<Eigen::Vector3d> P;
+  std::vector<Eigen::Vector2d> uv;
+  std::vector<double> sigma;
+  for (size_t i = 0; i < cur.size(); ++i) {
+    auto it = position.find(cur.point_id[i]);
+    if (it == position.end()) continue;
+    P.push_back(it->second);
+    uv.emplace_back(cur.keypoints[i].pt.x, cur.keypoints[i].pt.y);
+    sigma.push_back(cur.sigma(cur.keypoints[i].octave));
+  }
+  return poseInformation(*cam, P, uv, sigma, cur.T_c_w);
+}
+
 std::string Tracker::Impl::checkHealth(const Frame& cur, const PoseTrackingResult& r, const Eigen::Isometry3d& T_last,
                                        const Eigen::Isometry3d& T_predicted) {
   HealthInput in;
@@ -236,23 +243,36 @@ std::string Tracker::Impl::checkHealth(const Frame& cur, const PoseTrackingResul
   return health.check(in);
 }
 
-void Tracker::Impl::insertKeyframeIfNeeded(const Frame& cur, TrackResult* res) {
+bool Tracker::Impl::addKeyframeIfNeeded(const Frame& cur, TrackResult* res) {
   KeyframeCandidate c;
   c.frames_since_keyframe = frames_since_kf;
   c.inliers = res->inliers;
   if (c.frames_since_keyframe >= p.min_frames_between_keyframes) {
     c.reference_tracked = map.trackedPoints(last_kf_id, 2);
-    c.mapping_idle = mapper.idle();
+    // The mapper's real state is not used: under CPU load it is never idle, keyframes then came only when the
+    // map was already being lost (inliers < keyframe_min_tracked), the map thinned out, keyframes piled up one
+    // per frame with tiny baselines and the monocular scale collapsed in some runs. Like synchronous mapping,
+    // mapping counts as busy for sync_mapping_busy_frames frames after a keyframe; a mapper that falls behind
+    // slows tracking through the queue bound (max_pending_keyframes) instead of changing the keyframes.
+    c.mapping_idle = frames_since_kf >= p.sync_mapping_busy_frames;
   }
-  if (!needNewKeyframe(c, p)) return;
+  if (!needNewKeyframe(c, p)) return false;
+  // Deferred commit: the running BA took its snapshot before this keyframe exists (same window every run).
+  if (p.mapping_thread && p.ba_deferred_commit) mapper.waitUntilIdle();
   last_kf_id = map.addKeyframe(cur);
   updateStats([](TrackerStats& s) { s.keyframes++; });
   frames_since_kf = 0;
-  mapper.insertKeyframe(last_kf_id);
   res->is_keyframe = true;
-  // Map starvation: triangulate this keyframe's new points right here instead of waiting for the mapping
-  // thread (never waits for BA; the mapping thread skips the triangulation of this keyframe).
-  if (p.mapping_thread && res->inliers < p.starving_inliers) mapper.createNewMapPoints(last_kf_id);
+  // Threaded mapping: triangulate this keyframe's new points right here (under the map-update lock, never
+  // waiting for BA; the mapping thread then skips the triangulation of this keyframe), so the next frames can
+  // match them, as with synchronous mapping. Left to a mapping thread that lags behind under load, the tracker
+  // ran on a map missing the newest points (fast motion: 100-150 instead of 270-380 inliers), keyframes came
+  // only when the map was being lost and the monocular scale collapsed in some runs.
+  if (p.mapping_thread && p.ba_deferred_commit)
+    mapper.mapKeyframeInTracking(last_kf_id);  // + writes back the previous BA (see LocalMapper)
+  else if (p.mapping_thread && (p.triangulate_in_tracking || res->inliers < p.starving_inliers))
+    mapper.createNewMapPoints(last_kf_id);
+  return true;
 }
 
 void Tracker::Impl::handleLostFrame(const Frame& cur) {

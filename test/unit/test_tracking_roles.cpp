@@ -152,6 +152,44 @@ TEST(LocalBA, OutlierObservationsAreRemovedAndPosesWrittenBack) {
   EXPECT_EQ(hb.map.trackedPoints(prob.observation_keypoint[0].first, 1), 19) << "point " << pid << " unlinked";
 }
 
+// The tracking thread keeps adding keyframes and (starving) points while a threaded BA runs on a snapshot. On
+// write-back they must follow the optimized keyframes; left at their pre-BA place they disagreed with the moved
+// poses by > 10 px and the next BAs shrank the monocular scale (issue 11 step 5).
+TEST(LocalBA, KeyframesAndPointsAddedWhileBARanFollowTheCorrection) {
+  HandBuiltMap hb(20, 2);  // keyframes 0..3
+  LocalBAProblem prob = hb.map.localBAProblem(2, 0.0);
+  ASSERT_EQ(prob.keyframe_ids[0], hb.kf_ids.back());
+  ASSERT_FALSE(prob.keyframes[0].fixed);
+  // Meanwhile: two new keyframes and a point triangulated between them (pre-BA poses).
+  const long kf_new = hb.map.addKeyframe(gridFrame(20, 40, 0.6));
+  const long kf_new2 = hb.map.addKeyframe(gridFrame(21, 40, 0.7));
+  const Eigen::Vector3d p_new(0.3, 0.1, 2.5);
+  hb.map.addTriangulatedPoints({{p_new, kf_new, 30, kf_new2, 30}});
+  ASSERT_EQ(hb.map.numPoints(), 21u);
+  Eigen::Isometry3d T_new_before, T_newest_before;
+  ASSERT_TRUE(hb.map.keyframePose(kf_new, &T_new_before));
+  ASSERT_TRUE(hb.map.keyframePose(hb.kf_ids.back(), &T_newest_before));
+  // BA result: the newest window keyframe moved and rotated.
+  Eigen::Isometry3d T_opt = T_newest_before;
+  T_opt.translation() += Eigen::Vector3d(0.05, -0.02, 0.1);
+  T_opt.linear() = Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitY()).toRotationMatrix() * T_opt.linear();
+  prob.keyframes[0].T_c_w = T_opt;
+  BASummary summary;
+  summary.outlier.assign(prob.observations.size(), 0);
+  hb.map.applyLocalBA(prob, summary);
+  Eigen::Isometry3d T_new_after, T_newest_after;
+  ASSERT_TRUE(hb.map.keyframePose(kf_new, &T_new_after));
+  ASSERT_TRUE(hb.map.keyframePose(hb.kf_ids.back(), &T_newest_after));
+  EXPECT_TRUE(T_newest_after.isApprox(T_opt));
+  // The new keyframe keeps its pose relative to the newest window keyframe.
+  EXPECT_TRUE((T_new_after * T_newest_after.inverse()).isApprox(T_new_before * T_newest_before.inverse(), 1e-9));
+  // The new point keeps its position in the new keyframe's camera frame.
+  const Eigen::Vector3d expected = T_new_after.inverse() * (T_new_before * p_new);
+  bool found = false;
+  for (const auto& q : hb.map.pointPositions()) found |= (q - expected).norm() < 1e-9;
+  EXPECT_TRUE(found) << "point added while BA ran follows its keyframe";
+}
+
 TEST(MapCulling, RecentPointsWithLowFoundRatioOrFewObservationsGo) {
   HandBuiltMap hb(10, 2);  // kf ids 0..3, points on keypoints 0..9
   // Two fresh keyframes with 20 keypoints and no observations; two recent points between them.
@@ -204,6 +242,7 @@ TEST(LocalMapperTest, ThreadProcessesQueueStopsAndResets) {
   test::TestPinhole cam(640, 480, 500, 320, 240);
   TrackerParams p;
   p.mapping_thread = true;
+  p.ba_deferred_commit = false;  // the thread maps, runs BA and writes back itself
   p.max_map_keyframes = 4;
   p.ba_window_size = 3;
   HandBuiltMap hb(30, 4);  // 6 keyframes
@@ -231,6 +270,47 @@ TEST(LocalMapperTest, ThreadProcessesQueueStopsAndResets) {
     for (int k = 0; k < 3; ++k) mapper.insertKeyframe(hb.map.keyframePoses().back().id);
   });
   EXPECT_EQ(done.wait_for(std::chrono::seconds(30)), std::future_status::ready);
+}
+
+// Deferred commit (the default with a mapping thread): the thread only runs BA; its result reaches the map when
+// the tracking thread maps its next keyframe, never in between (so frames see a map independent of timing).
+TEST(LocalMapperTest, DeferredCommitWritesBAOnlyAtTheNextKeyframe) {
+  test::TestPinhole cam(640, 480, 500, 320, 240);
+  TrackerParams p;
+  p.mapping_thread = true;
+  p.ba_deferred_commit = true;
+  p.ba_window_size = 3;
+  HandBuiltMap hb(30, 4);  // 6 keyframes on a line, all points at z = 2
+  Eigen::Isometry3d T_before;
+  ASSERT_TRUE(hb.map.keyframePose(hb.kf_ids.back(), &T_before));
+  // Disturb the newest keyframe so that BA moves it.
+  {
+    auto lk = hb.map.lockUpdates();
+    hb.map.applyLocalBA([&] {
+      LocalBAProblem prob = hb.map.localBAProblem(1, 0.0);
+      prob.keyframes[0].T_c_w.translation() += Eigen::Vector3d(0.02, 0.0, 0.0);
+      return prob;
+    }(), [&] {
+      BASummary s;
+      s.outlier.assign(hb.map.localBAProblem(1, 0.0).observations.size(), 0);
+      return s;
+    }());
+  }
+  Eigen::Isometry3d T_disturbed;
+  ASSERT_TRUE(hb.map.keyframePose(hb.kf_ids.back(), &T_disturbed));
+  ASSERT_FALSE(T_disturbed.isApprox(T_before, 1e-6));
+  LocalMapper mapper(cam, p, &hb.map);
+  mapper.insertKeyframe(hb.kf_ids.back());
+  mapper.waitUntilIdle();
+  EXPECT_GE(mapper.stats().ba_runs, 1);
+  Eigen::Isometry3d T_after_ba;
+  ASSERT_TRUE(hb.map.keyframePose(hb.kf_ids.back(), &T_after_ba));
+  EXPECT_TRUE(T_after_ba.isApprox(T_disturbed, 1e-12)) << "BA result not written back by the thread";
+  const long next = hb.map.addKeyframe(gridFrame(60, 30, 0.8));
+  mapper.mapKeyframeInTracking(next);
+  Eigen::Isometry3d T_committed;
+  ASSERT_TRUE(hb.map.keyframePose(hb.kf_ids.back(), &T_committed));
+  EXPECT_FALSE(T_committed.isApprox(T_disturbed, 1e-9)) << "BA result committed at the next keyframe";
 }
 
 TEST(LocalMapperTest, SynchronousMappingProcessesInline) {

@@ -114,7 +114,8 @@ struct BAObservation {
 };
 struct BAOptions {
   int max_num_iterations = 10;
-  double max_solver_time_in_seconds = 0.2;
+  double max_solver_time_in_seconds = 0.2;  // wall clock (grows with the machine's load)
+  double max_cpu_seconds = 0.0;  // > 0: stop between iterations after this much CPU time of the calling thread
   double huber_delta = 2.447;          // on the sigma-normalized residual
   double chi2_threshold = 5.991;       // for the outlier flags of the summary
   const std::atomic<bool>* abort = nullptr;  // checked between iterations (new keyframe waiting)
@@ -123,7 +124,9 @@ struct BAOptions {
 };
 struct BASummary {
   bool ran = false;
-  int iterations = 0;
+  int iterations = 0;           // Ceres iterations incl. iteration 0 (1 = no step taken)
+  bool cpu_budget_hit = false;  // stopped by max_cpu_seconds
+  bool time_limit_hit = false;  // stopped by max_solver_time_in_seconds (wall clock)
   double initial_rmse_px = 0.0, final_rmse_px = 0.0;
   std::vector<char> outlier;  // per observation, chi2 after the solve
   double ms = 0.0;

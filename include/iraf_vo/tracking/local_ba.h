@@ -7,6 +7,13 @@
 // span less than min_fixed_span of the window's extent (oldest to newest centre; scale only weakly held: it
 // drifted towards 0 in fast-motion runs), the oldest window keyframes are fixed until both hold, keeping at
 // least one keyframe free.
+//
+// Write-back (Map::applyLocalBA) while the tracking thread kept going: keyframes added after the problem was
+// built were posed against the pre-BA map and points triangulated meanwhile used pre-BA poses; both are moved
+// with the correction of their anchor keyframe (points: the keyframe that created them if it was free in the
+// BA; keyframes and points of new keyframes: the newest window keyframe), so the map stays consistent (without
+// this, a starving tracker's points disagreed with the optimized poses by > 10 px and the next BAs shrank the
+// scale).
 #pragma once
 
 #include <iraf_vo/tracking/geometry.h>
@@ -24,6 +31,9 @@ struct LocalBAProblem {
   std::vector<BAPoint> points;
   std::vector<BAObservation> observations;
   std::vector<std::pair<long, int>> observation_keypoint;  // (keyframe id, keypoint index) per observation
+  // Map state when the problem was built: keyframes / points with ids >= these were added while BA ran (the
+  // tracking thread keeps going) and are moved with the correction of their anchor keyframe on write-back.
+  long next_keyframe_id = 0, next_point_id = 0;
 };
 
 /// Fixes the oldest window keyframes (indices window_size-1 down to 1) until at least two keyframes are fixed

@@ -7,8 +7,10 @@
 //   best covisible keyframes (unmatched keypoints, Hamming <= match_threshold_low, epipolar check on bearings,
 //   cheirality, reprojection chi2, min_triangulation_parallax_deg), then sliding-window BA when no other
 //   keyframe is waiting or ba_every_keyframes keyframes were processed since the last BA.
-// BA: Huber loss on sigma-normalized pixel residuals, bounded by ba_max_num_iterations /
-//   ba_max_solver_time_in_seconds, aborted when a new keyframe arrives if ba_abort_on_keyframe; results are
+// Threaded: the tracking thread usually triangulated the keyframe already (triangulate_in_tracking; claimed
+//   once per keyframe), the mapping thread then culls, updates descriptors and runs BA.
+// BA: Huber loss on sigma-normalized pixel residuals, bounded by ba_max_num_iterations and by
+//   ba_max_solver_time_in_seconds of CPU time of the mapping thread (not wall clock: load-independent), aborted when a new keyframe arrives if ba_abort_on_keyframe; results are
 //   merged under the map mutex; observations failing chi2 afterwards are removed.
 #pragma once
 
@@ -20,6 +22,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <deque>
+#include <memory>
 #include <mutex>
 #include <thread>
 
@@ -50,13 +53,24 @@ class LocalMapper {
   void clearQueue();
   /// Triangulates the keyframe's new points (once per keyframe; the tracker calls it when the map starves).
   void createNewMapPoints(long kf_id);
+  /// Deferred commit (mapping_thread && ba_deferred_commit), called by the tracking thread for a new keyframe
+  /// (holding Map::lockUpdates): waits for the running BA, writes its result back, bounds the map, then culls,
+  /// updates descriptors and triangulates for kf_id. The thread then only runs BA (insertKeyframe). Every
+  /// frame thus sees a map that does not depend on thread timing.
+  void mapKeyframeInTracking(long kf_id);
   LocalMapperStats stats() const;
   /// The largest change of the window's extent (after / before, or its inverse if that is larger, as a factor
   /// >= 1 with the direction kept: < 1 shrank) by a local BA since the last call; 1 when none ran.
   double takeScaleChange();
 
  private:
+  struct PendingBA {
+    LocalBAProblem problem;
+    BASummary summary;
+  };
   void run();
+  bool deferred() const;
+  void mapKeyframe(long kf_id);  // cull, descriptors, triangulation
   void processKeyframe(long kf_id, bool run_ba);
   void localBundleAdjustment();
   void recordScaleChange(double extent_before, const LocalBAProblem& after);
@@ -74,6 +88,7 @@ class LocalMapper {
   std::atomic<bool> abort_ba_{false};
   std::mutex scale_mutex_;
   double scale_change_ = 1.0;  // guarded by scale_mutex_
+  std::unique_ptr<PendingBA> pending_ba_;  // deferred commit: the last BA result (guarded by queue_mutex_)
   std::thread thread_;
 
   mutable std::mutex stats_mutex_;

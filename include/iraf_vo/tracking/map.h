@@ -109,6 +109,11 @@ class Map {
   void clear();
 
   // ---- tracking thread ----
+  /// The map-update lock (ORB-SLAM's mMutexMapUpdate): the tracking thread holds it over one frame (pose from
+  /// the map's points, keyframe creation, starving triangulation, the last frame's pose relative to its
+  /// keyframe) and applyLocalBA takes it, so BA results never land in the middle of a tracking step. Never
+  /// held while waiting for the local mapper (back-pressure, synchronous mapping, reset).
+  std::unique_lock<std::mutex> lockUpdates() { return std::unique_lock<std::mutex>(update_mutex_); }
   std::vector<LocalPoint> localPoints() const;
   bool keyframePose(long id, Eigen::Isometry3d* T_c_w) const;
   /// Points seen in the frame's view (visible) and matched (found): ORB-SLAM's found ratio.
@@ -129,7 +134,9 @@ class Map {
   void addTriangulatedPoints(const std::vector<NewMapPoint>& points);
   /// The sliding-window BA problem of the newest window_size keyframes (see local_ba.h).
   LocalBAProblem localBAProblem(int window_size, double min_fixed_span) const;
-  /// Writes the optimized poses / points back and removes observations flagged as outliers.
+  /// Writes the optimized poses / points back, moves keyframes / points added since the problem was built with
+  /// their anchor's correction (local_ba.h) and removes observations flagged as outliers. The caller holds
+  /// lockUpdates() (the mapping thread) or is the tracking thread.
   void applyLocalBA(const LocalBAProblem& problem, const BASummary& summary);
   void dropOldKeyframes(int max_keyframes);
 
@@ -143,6 +150,7 @@ class Map {
   long createPointLocked(const Eigen::Vector3d& p_w, Keyframe& a, int kp_a, Keyframe& b, int kp_b);
   void erasePointLocked(long id);
 
+  std::mutex update_mutex_;  // lockUpdates(); taken before mutex_
   mutable std::mutex mutex_;
   std::map<long, KeyframePtr> keyframes_;
   std::unordered_map<long, MapPointPtr> points_;

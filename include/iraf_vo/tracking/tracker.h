@@ -13,8 +13,12 @@
 // Per frame: undistort -> not initialized: two-view initialization against a reference frame; map scale =
 // median depth 1 (after a loss: the last known median depth) -> tracking: PoseTracker::trackLocalMap; tracked
 // iff inliers >= min_tracking_inliers and the health monitor trusts the pose -> keyframe decision -> LocalMapper (own thread unless mapping_thread =
-// false; tracking never waits for it except on reset and under back-pressure; when the map is starving
-// (keyframe with inliers < starving_inliers) the tracking thread triangulates that keyframe itself).
+// false; tracking never waits for it except on reset and under back-pressure). With the mapping thread the
+// tracking thread still triangulates each new keyframe's points itself (triangulate_in_tracking; else only when
+// the map is starving: inliers < starving_inliers) and the keyframe decision uses the same "mapping busy for
+// sync_mapping_busy_frames frames" rule as synchronous mapping, so keyframes and points do not depend on the
+// machine's load; one tracking step holds the map-update lock (Map::lockUpdates), so a BA result is written
+// back between frames, and what the tracker added while BA ran follows the BA correction (local_ba.h).
 //
 // Loss recovery: a frame with < min_tracking_inliers inliers is lost (kLost; lost_frames++, and lost_events++
 //   on the transition). The next frames try relocalization (brute force against the map's points + PnP).

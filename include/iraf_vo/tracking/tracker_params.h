@@ -41,8 +41,15 @@ struct TrackerParams {
   bool mapping_thread = true;           // false: mapping runs synchronously inside track() (deterministic)
   int starving_inliers = 60;            // keyframe inserted with fewer inliers: track() triangulates its new points
                                         // itself (the mapping thread may be busy); never waits for BA
-  int sync_mapping_busy_frames = 3;     // mapping_thread = false: the keyframe policy treats mapping as busy for
-                                        // this many frames after a keyframe (emulates the threaded keyframe rate)
+  bool triangulate_in_tracking = true;  // mapping_thread = true: track() triangulates every new keyframe's points
+                                        // (as synchronous mapping does; the mapping thread culls, updates
+                                        // descriptors and runs BA); false: only below starving_inliers
+  bool ba_deferred_commit = true;       // mapping_thread = true: the mapping thread only runs BA; the tracking
+                                        // thread writes its result back at the next keyframe (waiting for it) and
+                                        // culls / triangulates itself: results independent of thread timing
+  int sync_mapping_busy_frames = 3;     // the keyframe policy treats mapping as busy for this many frames after a
+                                        // keyframe (synchronous and threaded mapping: the threaded mapper's real
+                                        // state made the keyframes depend on the machine's load)
   int num_triangulation_neighbors = 6;
   double min_triangulation_parallax_deg = 1.0;
   double min_found_ratio = 0.25;
@@ -50,7 +57,8 @@ struct TrackerParams {
   int ba_window_size = 10;
   int max_map_keyframes = 20;
   int ba_max_num_iterations = 10;
-  double ba_max_solver_time_in_seconds = 0.1;
+  double ba_max_solver_time_in_seconds = 0.1;  // CPU time of the mapping thread (not wall clock: under load
+                                               // a wall-clock budget left BA at 0-1 iterations)
   double ba_huber_delta = 2.447;        // sqrt(5.991) on the sigma-normalized residual
   int max_pending_keyframes = 2;        // keyframe queue bound: inserting waits while this many are queued
                                         // (only under CPU overload; 0 = unbounded)
