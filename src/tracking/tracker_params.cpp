@@ -23,6 +23,7 @@ std::string validate(const TrackerParams& p) {
   if (p.init_max_frames < 1) return bad("init_max_frames", "must be >= 1");
   if (!(p.init_threshold_px > 0)) return bad("init_threshold_px", "must be > 0");
   if (!(p.init_min_parallax_deg >= 0)) return bad("init_min_parallax_deg", "must be >= 0");
+  if (p.init_min_parallax_points < 0) return bad("init_min_parallax_points", "must be >= 0");
   if (p.init_min_triangulated < 8) return bad("init_min_triangulated", "must be >= 8");
   if (!(p.init_homography_ratio >= 0 && p.init_homography_ratio <= 1)) return bad("init_homography_ratio", "must be in [0, 1]");
   if (!(p.init_match_ratio > 0 && p.init_match_ratio <= 1)) return bad("init_match_ratio", "must be in (0, 1]");
