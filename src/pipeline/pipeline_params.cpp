@@ -68,6 +68,7 @@ ResolutionDefaults resolutionDefaults(int width, int height, double focal, doubl
   if (width <= 0 || height <= 0 || !(focal > 0)) return d;
   const double s = std::sqrt(static_cast<double>(width) * height / (kRefWidth * kRefHeight));
   d.n_features = static_cast<int>(std::lround(std::clamp(ref.n_features * s, 500.0, 2000.0) / 50.0)) * 50;
+  d.cell_size = std::max(30, static_cast<int>(std::lround(ref.cell_size * s)));
   d.n_levels = 1;
   if (scale_factor > 1.0)
     while (d.n_levels < ref.n_levels && std::min(width, height) / std::pow(scale_factor, d.n_levels) >= kMinLevelSide)
@@ -87,6 +88,7 @@ std::string applyResolutionRule(int width, int height, double focal, PipelinePar
   const ResolutionDefaults d = resolutionDefaults(width, height, focal, p->features.scale_factor);
   const auto unset = [p](const char* key) { return p->user_set.count(key) == 0; };
   if (unset("features.n_features")) p->features.n_features = d.n_features;
+  if (unset("features.cell_size")) p->features.cell_size = d.cell_size;
   if (unset("features.n_levels")) p->features.n_levels = d.n_levels;
   if (unset("tracker.search_radius_px")) p->tracker.search_radius_px = d.search_radius_px;
   if (unset("tracker.search_radius_wide_px")) p->tracker.search_radius_wide_px = d.search_radius_wide_px;
@@ -96,9 +98,9 @@ std::string applyResolutionRule(int width, int height, double focal, PipelinePar
   if (unset("tracker.init_min_parallax_points")) p->tracker.init_min_parallax_points = d.init_min_parallax_points;
   char buf[320];
   std::snprintf(buf, sizeof(buf),
-                "%dx%d f %.0f: n_features %d, n_levels %d, search radii %.1f / %.1f / %.1f px, "
+                "%dx%d f %.0f: n_features %d, cell_size %d, n_levels %d, search radii %.1f / %.1f / %.1f px, "
                 "init min matches %d, triangulated %d, parallax points %d",
-                width, height, focal, p->features.n_features, p->features.n_levels,
+                width, height, focal, p->features.n_features, p->features.cell_size, p->features.n_levels,
                 p->tracker.search_radius_px, p->tracker.search_radius_wide_px, p->tracker.search_radius_refine_px,
                 p->tracker.init_min_matches, p->tracker.init_min_triangulated, p->tracker.init_min_parallax_points);
   return buf;

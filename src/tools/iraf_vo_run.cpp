@@ -42,8 +42,8 @@ void usage(FILE* f) {
       "  --frame-log per-frame CSV: index,stamp,state,keypoints,matches,inliers,keyframe,pnp,ms_track,note\n"
       "             (note: why initialization failed / why the health monitor rejected the pose)\n"
       "  --set      override one parameter, e.g. --set tracker.ba_window_size=12 (after --mode / --config)\n"
-      "  --no-resolution-rule  keep the 752x480 defaults of the size-dependent fields (n_features, n_levels,\n"
-      "             search radii, init counts); default: derive the ones not given by --config / --set\n"
+      "  --no-resolution-rule  keep the 752x480 defaults of the size-dependent fields (n_features, cell_size,\n"
+      "             n_levels, search radii, init counts); default: derive the ones not given by --config / --set\n"
       "             from the camera (pipeline_params.h, README)\n");
 }
 

@@ -182,20 +182,21 @@ TEST(PipelineParams, ResolutionRuleValuesAndUserSettings) {
   struct Case {
     int w, h;
     double f;
-    int n_features, n_levels;
+    int n_features, cell_size, n_levels;
     double radius, wide, refine;
     int min_matches, min_triangulated, parallax_points;
   };
   const Case cases[] = {
-      {752, 480, 458.654, 1000, 8, 15.0, 40.0, 4.0, 100, 60, 50},  // EuRoC: the struct defaults
-      {1241, 376, 718.856, 1150, 8, 23.51, 62.69, 6.27, 115, 69, 57},
-      {512, 512, 190.978, 850, 8, 6.25, 16.66, 2.0, 85, 51, 43},
-      {240, 180, 200.0, 500, 5, 6.54, 17.44, 2.0, 50, 30, 25},
+      {752, 480, 458.654, 1000, 35, 8, 15.0, 40.0, 4.0, 100, 60, 50},  // EuRoC: the struct defaults
+      {1241, 376, 718.856, 1150, 40, 8, 23.51, 62.69, 6.27, 115, 69, 57},
+      {512, 512, 190.978, 850, 30, 8, 6.25, 16.66, 2.0, 85, 51, 43},
+      {240, 180, 200.0, 500, 30, 5, 6.54, 17.44, 2.0, 50, 30, 25},
   };
   for (const Case& c : cases) {
     const ResolutionDefaults d = resolutionDefaults(c.w, c.h, c.f);
     SCOPED_TRACE(std::to_string(c.w) + "x" + std::to_string(c.h));
     EXPECT_EQ(d.n_features, c.n_features);
+    EXPECT_EQ(d.cell_size, c.cell_size);
     EXPECT_EQ(d.n_levels, c.n_levels);
     EXPECT_NEAR(d.search_radius_px, c.radius, 0.01);
     EXPECT_NEAR(d.search_radius_wide_px, c.wide, 0.01);
@@ -206,12 +207,13 @@ TEST(PipelineParams, ResolutionRuleValuesAndUserSettings) {
     PipelineParams p;
     applyResolutionRule(c.w, c.h, c.f, &p);
     EXPECT_EQ(p.features.n_features, c.n_features);
-    EXPECT_EQ(p.features.cell_size, FeatureParams().cell_size);  // not size-dependent
+    EXPECT_EQ(p.features.cell_size, c.cell_size);
     EXPECT_EQ(validate(p), "");
   }
   // At EuRoC's size the rule reproduces the struct defaults.
   const ResolutionDefaults euroc = resolutionDefaults(752, 480, 458.654);
   EXPECT_EQ(euroc.n_features, FeatureParams().n_features);
+  EXPECT_EQ(euroc.cell_size, FeatureParams().cell_size);
   EXPECT_EQ(euroc.n_levels, FeatureParams().n_levels);
   EXPECT_DOUBLE_EQ(euroc.search_radius_px, TrackerParams().search_radius_px);
   EXPECT_EQ(euroc.init_min_matches, TrackerParams().init_min_matches);
