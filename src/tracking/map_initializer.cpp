@@ -30,7 +30,8 @@ bool MapInitializer::initialize(Frame& cur, const MapAnchor& anchor, Map* map, K
   }
   const std::vector<std::pair<int, int>> matches = matchToReference(cur);
   if (static_cast<int>(matches.size()) < p_.init_min_matches) {
-    last_failure_ = "too few matches (" + std::to_string(matches.size()) + " < " + std::to_string(p_.init_min_matches) + ")";
+    last_failure_ =
+        "too few matches (" + std::to_string(matches.size()) + " < " + std::to_string(p_.init_min_matches) + ")";
     setReference(cur);
     return false;
   }
@@ -43,6 +44,7 @@ bool MapInitializer::initialize(Frame& cur, const MapAnchor& anchor, Map* map, K
   two_view_params.threshold_px = p_.init_threshold_px;
   two_view_params.min_parallax_deg = p_.init_min_parallax_deg;
   two_view_params.min_parallax_points = p_.init_min_parallax_points;
+  two_view_params.min_median_parallax_deg = p_.init_min_median_parallax_deg;
   two_view_params.min_triangulated = p_.init_min_triangulated;
   two_view_params.homography_ratio = p_.init_homography_ratio;
   const TwoViewResult two_view = initializeTwoView(b_ref, b_cur, cam_.focal(), two_view_params);

@@ -37,6 +37,8 @@ struct TwoViewParams {
   double threshold_px = 1.5;       // RANSAC / scoring inlier threshold (pixels at level 0; converted with focal)
   double min_parallax_deg = 1.0;   // parallax test: at least min_parallax_points triangulated points (all if
   int min_parallax_points = 50;    // fewer) have this parallax (ORB-SLAM); min_parallax_points 0 = the median
+  double min_median_parallax_deg = 0.5;  // and the median point has this parallax. A homography's median point
+                                         // needs min_parallax_deg.
   int min_triangulated = 50;
   double homography_ratio = 0.45;  // R_H = S_H / (S_H + S_F) above this -> homography (ORB-SLAM)
   double model_fallback_margin = 0.1;  // |R_H - homography_ratio| below this and the chosen model fails its
