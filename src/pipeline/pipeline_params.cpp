@@ -2,6 +2,10 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
 #include "iraf_vo/enhance/enhance_params_io.h"
 #include "iraf_vo/tracking/tracker_params_io.h"
 
@@ -24,6 +28,9 @@ bool loadPipelineConfig(const std::string& path, PipelineParams* p, std::string*
   else if (root["tracker"] && !trackerParamTable().load(root["tracker"], &p->tracker, &err))
     ok = false;
   if (!ok) *error = path + ": " + err;
+  for (const char* section : {"enhance", "features", "tracker"})
+    if (ok && root[section] && root[section].IsMap())
+      for (const auto& kv : root[section]) p->user_set.insert(std::string(section) + "." + kv.first.as<std::string>());
   return ok;
 }
 
@@ -35,17 +42,68 @@ bool applyPipelineSetting(const std::string& setting, PipelineParams* p, std::st
   }
   const std::string section = setting.substr(0, dot), key = setting.substr(dot + 1, eq - dot - 1);
   const std::string value = setting.substr(eq + 1);
-  if (section == enhanceParamTable().section()) return enhanceParamTable().set(&p->enhance, key, value, error);
-  if (section == featureParamTable().section()) return featureParamTable().set(&p->features, key, value, error);
-  if (section == trackerParamTable().section()) return trackerParamTable().set(&p->tracker, key, value, error);
-  *error = "unknown section '" + section + "' (tracker, enhance, features)";
-  return false;
+  bool ok = false;
+  if (section == enhanceParamTable().section())
+    ok = enhanceParamTable().set(&p->enhance, key, value, error);
+  else if (section == featureParamTable().section())
+    ok = featureParamTable().set(&p->features, key, value, error);
+  else if (section == trackerParamTable().section())
+    ok = trackerParamTable().set(&p->tracker, key, value, error);
+  else
+    *error = "unknown section '" + section + "' (tracker, enhance, features)";
+  if (ok) p->user_set.insert(section + "." + key);
+  return ok;
 }
 
 std::string validate(const PipelineParams& p) {
   for (const std::string& e : {validate(p.enhance), validate(p.features), validate(p.tracker)})
     if (!e.empty()) return e;
   return "";
+}
+
+ResolutionDefaults resolutionDefaults(int width, int height, double focal, double scale_factor) {
+  constexpr double kRefWidth = 752, kRefHeight = 480, kRefFocal = 458.654, kMinLevelSide = 80.0;
+  const ResolutionDefaults ref;
+  ResolutionDefaults d;
+  if (width <= 0 || height <= 0 || !(focal > 0)) return d;
+  const double s = std::sqrt(static_cast<double>(width) * height / (kRefWidth * kRefHeight));
+  d.n_features = static_cast<int>(std::lround(std::clamp(ref.n_features * s, 500.0, 2000.0) / 50.0)) * 50;
+  d.cell_size = std::max(30, static_cast<int>(std::lround(ref.cell_size * s)));
+  d.n_levels = 1;
+  if (scale_factor > 1.0)
+    while (d.n_levels < ref.n_levels && std::min(width, height) / std::pow(scale_factor, d.n_levels) >= kMinLevelSide)
+      ++d.n_levels;
+  const double f = focal / kRefFocal;
+  d.search_radius_px = std::max(5.0, ref.search_radius_px * f);
+  d.search_radius_wide_px = std::max(15.0, ref.search_radius_wide_px * f);
+  d.search_radius_refine_px = std::max(2.0, ref.search_radius_refine_px * f);
+  const double n = d.n_features / static_cast<double>(ref.n_features);
+  d.init_min_matches = static_cast<int>(std::lround(ref.init_min_matches * n));
+  d.init_min_triangulated = static_cast<int>(std::lround(ref.init_min_triangulated * n));
+  d.init_min_parallax_points = static_cast<int>(std::lround(ref.init_min_parallax_points * n));
+  return d;
+}
+
+std::string applyResolutionRule(int width, int height, double focal, PipelineParams* p) {
+  const ResolutionDefaults d = resolutionDefaults(width, height, focal, p->features.scale_factor);
+  const auto unset = [p](const char* key) { return p->user_set.count(key) == 0; };
+  if (unset("features.n_features")) p->features.n_features = d.n_features;
+  if (unset("features.cell_size")) p->features.cell_size = d.cell_size;
+  if (unset("features.n_levels")) p->features.n_levels = d.n_levels;
+  if (unset("tracker.search_radius_px")) p->tracker.search_radius_px = d.search_radius_px;
+  if (unset("tracker.search_radius_wide_px")) p->tracker.search_radius_wide_px = d.search_radius_wide_px;
+  if (unset("tracker.search_radius_refine_px")) p->tracker.search_radius_refine_px = d.search_radius_refine_px;
+  if (unset("tracker.init_min_matches")) p->tracker.init_min_matches = d.init_min_matches;
+  if (unset("tracker.init_min_triangulated")) p->tracker.init_min_triangulated = d.init_min_triangulated;
+  if (unset("tracker.init_min_parallax_points")) p->tracker.init_min_parallax_points = d.init_min_parallax_points;
+  char buf[320];
+  std::snprintf(buf, sizeof(buf),
+                "%dx%d f %.0f: n_features %d, cell_size %d, n_levels %d, search radii %.1f / %.1f / %.1f px, "
+                "init min matches %d, triangulated %d, parallax points %d",
+                width, height, focal, p->features.n_features, p->features.cell_size, p->features.n_levels,
+                p->tracker.search_radius_px, p->tracker.search_radius_wide_px, p->tracker.search_radius_refine_px,
+                p->tracker.init_min_matches, p->tracker.init_min_triangulated, p->tracker.init_min_parallax_points);
+  return buf;
 }
 
 }  // namespace iraf_vo

@@ -18,6 +18,13 @@ Percentiles percentiles(std::vector<double> v) {
   return p;
 }
 
+// The frame log's last column: why initialization failed or why the health monitor rejected the pose (no commas).
+static std::string csvNote(const TrackResult& r) {
+  std::string s = !r.rejected.empty() ? r.rejected : r.init_status;
+  std::replace(s.begin(), s.end(), ',', ';');
+  return s;
+}
+
 double rssMiB() {
   std::ifstream f("/proc/self/status");
   std::string line;
@@ -32,7 +39,7 @@ bool RunRecorder::openFrameLog(const std::string& path, std::string* error) {
     *error = path + ": cannot write";
     return false;
   }
-  frame_log_ << "index,stamp,state,keypoints,matches,inliers,keyframe,pnp,ms_track\n";
+  frame_log_ << "index,stamp,state,keypoints,matches,inliers,keyframe,pnp,ms_track,note\n";
   return true;
 }
 
@@ -40,7 +47,7 @@ void RunRecorder::add(const FrontEndItem& it, const TrackResult& r, long process
   if (frame_log_)
     frame_log_ << it.index << "," << std::fixed << it.frame.stamp << std::defaultfloat << "," << toString(r.state)
                << "," << it.frame.keypoints.size() << "," << r.matches << "," << r.inliers << "," << r.is_keyframe
-               << "," << r.used_pnp << "," << r.timing.ms_total << "\n";
+               << "," << r.used_pnp << "," << r.timing.ms_total << "," << csvNote(r) << "\n";
   ms_["read"].push_back(it.ms_read);
   ms_["enhance"].push_back(it.ms_enhance);
   ms_["features"].push_back(it.ms_features);

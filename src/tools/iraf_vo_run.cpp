@@ -30,6 +30,7 @@ void usage(FILE* f) {
       "                   [--mode iraf|baseline|enhance|adaptive|culling|he|clahe] [--gt GT] [--stats stats.json]\n"
       "                   [--config params.yaml] [--first N] [--frames N] [--set section.key=value] [--frame-log F] "
       "[--quiet]\n"
+      "                   [--no-resolution-rule]\n"
       "  --dataset  ASL folder (DIR/mav0/cam0/data.csv) or a rosbag (.bag, needs --topic)\n"
       "  --camera   camera yaml (default: the ASL folder's mav0/cam0/sensor.yaml)\n"
       "  --mode     iraf = enhancement + adaptive threshold + culling (default); baseline = all off;\n"
@@ -38,14 +39,18 @@ void usage(FILE* f) {
       "  --gt       ground truth (TUM or EuRoC csv) -> Sim(3) ATE in the summary\n"
       "  --config   YAML with optional maps 'enhance:', 'features:', 'tracker:' (keys = parameter names)\n"
       "  --first/--frames  process frames [first, first + frames) only\n"
-      "  --frame-log per-frame CSV: index,stamp,state,keypoints,matches,inliers,keyframe,pnp,ms_track\n"
-      "  --set      override one parameter, e.g. --set tracker.ba_window_size=12 (after --mode / --config)\n");
+      "  --frame-log per-frame CSV: index,stamp,state,keypoints,matches,inliers,keyframe,pnp,ms_track,note\n"
+      "             (note: why initialization failed / why the health monitor rejected the pose)\n"
+      "  --set      override one parameter, e.g. --set tracker.ba_window_size=12 (after --mode / --config)\n"
+      "  --no-resolution-rule  keep the 752x480 defaults of the size-dependent fields (n_features, cell_size,\n"
+      "             n_levels, search radii, init counts); default: derive the ones not given by --config / --set\n"
+      "             from the camera (pipeline_params.h, README)\n");
 }
 
 struct Args {
   std::string dataset, topic, camera_path, out, mode = "iraf", gt_path, stats_path, config_path, frame_log_path;
   long first = 0, max_frames = -1;
-  bool quiet = false;
+  bool quiet = false, no_resolution_rule = false;
   std::vector<std::string> sets;
 };
 
@@ -65,8 +70,8 @@ int parseArgs(int argc, char** argv, Args* a) {
                                              : nullptr;
     const bool takes_value = text || k == "--set" || k == "--first" || k == "--frames";
     if (k == "-h" || k == "--help") return usage(stdout), 0;
-    if (k == "--quiet") {
-      a->quiet = true;
+    if (k == "--quiet" || k == "--no-resolution-rule") {
+      (k == "--quiet" ? a->quiet : a->no_resolution_rule) = true;
       continue;
     }
     if (!takes_value) {
@@ -174,6 +179,11 @@ int main(int argc, char** argv) {
   if (a.camera_path.empty()) return std::fprintf(stderr, "iraf_vo_run: no camera: pass --camera sensor.yaml\n"), 2;
   const iraf_vo::CameraModelPtr cam = iraf_vo::loadCamera(a.camera_path, &err);
   if (!cam) return std::fprintf(stderr, "iraf_vo_run: --camera %s: %s\n", a.camera_path.c_str(), err.c_str()), 1;
+  if (!a.no_resolution_rule) {
+    const std::string rule = iraf_vo::applyResolutionRule(cam->width(), cam->height(), cam->focal(), &params);
+    if (!a.quiet) std::fprintf(stderr, "iraf_vo_run: resolution rule: %s\n", rule.c_str());
+    if (!(err = iraf_vo::validate(params)).empty()) return std::fprintf(stderr, "iraf_vo_run: %s\n", err.c_str()), 2;
+  }
   iraf_vo::Trajectory gt;
   if (!a.gt_path.empty() && !iraf_vo::readTrajectory(a.gt_path, &gt, &err, cam->T_BS))
     return std::fprintf(stderr, "iraf_vo_run: --gt %s: %s\n", a.gt_path.c_str(), err.c_str()), 1;

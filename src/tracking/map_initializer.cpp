@@ -22,12 +22,16 @@ std::vector<std::pair<int, int>> MapInitializer::matchToReference(const Frame& c
 
 bool MapInitializer::initialize(Frame& cur, const MapAnchor& anchor, Map* map, KeyframePtr* kf0_out,
                                 KeyframePtr* kf1_out, int* num_points) {
+  last_failure_.clear();
   if (!have_reference_ || cur.index - reference_.index > p_.init_max_frames) {
+    last_failure_ = have_reference_ ? "reference too old" : "no reference";
     setReference(cur);
     return false;
   }
   const std::vector<std::pair<int, int>> matches = matchToReference(cur);
   if (static_cast<int>(matches.size()) < p_.init_min_matches) {
+    last_failure_ =
+        "too few matches (" + std::to_string(matches.size()) + " < " + std::to_string(p_.init_min_matches) + ")";
     setReference(cur);
     return false;
   }
@@ -39,10 +43,16 @@ bool MapInitializer::initialize(Frame& cur, const MapAnchor& anchor, Map* map, K
   TwoViewParams two_view_params;
   two_view_params.threshold_px = p_.init_threshold_px;
   two_view_params.min_parallax_deg = p_.init_min_parallax_deg;
+  two_view_params.min_parallax_points = p_.init_min_parallax_points;
+  two_view_params.min_median_parallax_deg = p_.init_min_median_parallax_deg;
   two_view_params.min_triangulated = p_.init_min_triangulated;
   two_view_params.homography_ratio = p_.init_homography_ratio;
   const TwoViewResult two_view = initializeTwoView(b_ref, b_cur, cam_.focal(), two_view_params);
-  if (!two_view.ok) return false;
+  if (!two_view.ok) {
+    last_failure_ = "ref " + std::to_string(reference_.index) + " " + std::to_string(matches.size()) +
+                    " matches: " + two_view.reason;
+    return false;
+  }
 
   // Scale: median depth of the triangulated points in the reference frame = anchor depth.
   std::vector<double> depths;
@@ -50,7 +60,7 @@ bool MapInitializer::initialize(Frame& cur, const MapAnchor& anchor, Map* map, K
     if (two_view.triangulated[k]) depths.push_back(two_view.points[k].z());
   std::nth_element(depths.begin(), depths.begin() + depths.size() / 2, depths.end());
   const double median = depths[depths.size() / 2];
-  if (!(median > 0)) return false;
+  if (!(median > 0)) return (last_failure_ = "median depth not positive"), false;
   const double s = anchor.median_depth / median;
   Eigen::Isometry3d T_cur_ref = Eigen::Isometry3d::Identity();
   T_cur_ref.linear() = two_view.R_21;
@@ -92,7 +102,8 @@ bool MapInitializer::initialize(Frame& cur, const MapAnchor& anchor, Map* map, K
       continue;
     points.push_back({ba_points[i].p_w, 0, point_match[i].first, 0, point_match[i].second});
   }
-  if (!map->createInitialMap(kf0, kf1, points, p_.init_min_triangulated, num_points)) return false;
+  if (!map->createInitialMap(kf0, kf1, points, p_.init_min_triangulated, num_points))
+    return (last_failure_ = "too few points after the two-keyframe BA (" + std::to_string(points.size()) + ")"), false;
   cur.T_c_w = kf1->T_c_w;
   cur.point_id = kf1->point_id;
   *kf0_out = kf0;

@@ -161,7 +161,10 @@ bool Tracker::Impl::initializeMap(Frame& cur, TrackResult* res) {
   }
   KeyframePtr kf0, kf1;
   int points = 0;
-  if (!initializer.initialize(cur, anchor, &map, &kf0, &kf1, &points)) return false;
+  if (!initializer.initialize(cur, anchor, &map, &kf0, &kf1, &points)) {
+    res->init_status = initializer.lastFailure();
+    return false;
+  }
   last_kf_id = kf1->id;
   res->inliers = points;
   res->is_keyframe = true;

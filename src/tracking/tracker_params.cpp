@@ -10,6 +10,7 @@ std::string validate(const TrackerParams& p) {
   // Fields bounded below only: +inf passed and reached int casts (e.g. search radius / cell -> grid index).
   for (const auto& kv : {std::make_pair("init_threshold_px", p.init_threshold_px),
                          std::make_pair("init_min_parallax_deg", p.init_min_parallax_deg),
+                         std::make_pair("init_min_median_parallax_deg", p.init_min_median_parallax_deg),
                          std::make_pair("search_radius_px", p.search_radius_px),
                          std::make_pair("search_radius_wide_px", p.search_radius_wide_px),
                          std::make_pair("search_radius_refine_px", p.search_radius_refine_px),
@@ -23,6 +24,8 @@ std::string validate(const TrackerParams& p) {
   if (p.init_max_frames < 1) return bad("init_max_frames", "must be >= 1");
   if (!(p.init_threshold_px > 0)) return bad("init_threshold_px", "must be > 0");
   if (!(p.init_min_parallax_deg >= 0)) return bad("init_min_parallax_deg", "must be >= 0");
+  if (!(p.init_min_median_parallax_deg >= 0)) return bad("init_min_median_parallax_deg", "must be >= 0");
+  if (p.init_min_parallax_points < 0) return bad("init_min_parallax_points", "must be >= 0");
   if (p.init_min_triangulated < 8) return bad("init_min_triangulated", "must be >= 8");
   if (!(p.init_homography_ratio >= 0 && p.init_homography_ratio <= 1)) return bad("init_homography_ratio", "must be in [0, 1]");
   if (!(p.init_match_ratio > 0 && p.init_match_ratio <= 1)) return bad("init_match_ratio", "must be in (0, 1]");

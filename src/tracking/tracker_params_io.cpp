@@ -13,7 +13,12 @@ const ParamTable<TrackerParams>& trackerParamTable() {
           intParam("init_max_frames", &P::init_max_frames, 1, 1000, "Reference older than this -> new reference"),
           doubleParam("init_threshold_px", &P::init_threshold_px, 0.1, 10.0, "H / E RANSAC and scoring threshold [px]"),
           doubleParam("init_min_parallax_deg", &P::init_min_parallax_deg, 0.0, 20.0,
-                      "Median parallax of the triangulated points [deg]"),
+                      "Parallax the init_min_parallax_points-th most parallax-rich triangulated point needs [deg]"),
+          intParam("init_min_parallax_points", &P::init_min_parallax_points, 0, 10000,
+                   "Parallax test: this many triangulated points (all if fewer) need init_min_parallax_deg "
+                   "(ORB-SLAM 50); 0 = the median point"),
+          doubleParam("init_min_median_parallax_deg", &P::init_min_median_parallax_deg, 0.0, 20.0,
+                      "Parallax test: the median triangulated point also needs this parallax [deg]"),
           intParam("init_min_triangulated", &P::init_min_triangulated, 8, 10000, "Points the initial map needs"),
           doubleParam("init_homography_ratio", &P::init_homography_ratio, 0.0, 1.0,
                       "R_H = S_H / (S_H + S_F) above this -> homography (ORB-SLAM 0.45)"),

@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <functional>
 
 namespace iraf_vo {
 
@@ -78,15 +80,17 @@ struct Hypothesis {
   Eigen::Matrix3d R;
   Eigen::Vector3d t;
   int good = 0;
-  double parallax_deg = 0.0;
+  double parallax_deg = 0.0;         // the tested one (TwoViewParams::min_parallax_points)
+  double median_parallax_deg = 0.0;
   std::vector<Eigen::Vector3d> points;
   std::vector<char> ok;
 };
 
 // Triangulate the inliers with (R, t): cheirality, reprojection (pixels via focal) and parallax checks.
+// parallax_deg = the min_parallax_points-th largest parallax (ORB-SLAM CheckRT: the 50th), 0: the median.
 void checkRT(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, const std::vector<Eigen::Vector3d>& b1,
-             const std::vector<Eigen::Vector3d>& b2, const std::vector<char>& inl, double focal, double th_px,
-             Hypothesis* h) {
+             const std::vector<Eigen::Vector3d>& b2, const std::vector<char>& inl, double focal,
+             const TwoViewParams& params, Hypothesis* h) {
   h->R = R;
   h->t = t;
   h->good = 0;
@@ -95,7 +99,7 @@ void checkRT(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, const std::vect
   Eigen::Isometry3d T1 = Eigen::Isometry3d::Identity(), T2 = Eigen::Isometry3d::Identity();
   T2.linear() = R;
   T2.translation() = t;
-  const double th2 = th_px * th_px * 4.0;  // chi2-like gate: (2 sigma)^2
+  const double th2 = params.threshold_px * params.threshold_px * 4.0;  // chi2-like gate: (2 sigma)^2
   std::vector<double> parallaxes;
   for (size_t i = 0; i < b1.size(); ++i) {
     if (!inl[i]) continue;
@@ -114,8 +118,11 @@ void checkRT(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, const std::vect
     parallaxes.push_back(std::acos(std::clamp(cosp, -1.0, 1.0)) * 180.0 / M_PI);
   }
   if (!parallaxes.empty()) {
-    std::nth_element(parallaxes.begin(), parallaxes.begin() + parallaxes.size() / 2, parallaxes.end());
-    h->parallax_deg = parallaxes[parallaxes.size() / 2];
+    std::sort(parallaxes.begin(), parallaxes.end(), std::greater<double>());
+    h->median_parallax_deg = parallaxes[parallaxes.size() / 2];
+    const size_t n = parallaxes.size();
+    const size_t rank = params.min_parallax_points > 0 ? std::min<size_t>(params.min_parallax_points, n) - 1 : n / 2;
+    h->parallax_deg = parallaxes[rank];
   }
 }
 
@@ -175,7 +182,7 @@ TwoViewModels fitEssentialAndHomography(const ForwardMatches& m, double focal, c
 
 // Every (R, t) the chosen model decomposes into, each triangulated and checked (checkRT).
 std::vector<Hypothesis> poseHypotheses(const TwoViewModels& models, bool use_h, const ForwardMatches& m, double focal,
-                                       double threshold_px) {
+                                       const TwoViewParams& params) {
   std::vector<Hypothesis> hyps;
   if (use_h) {
     std::vector<cv::Mat> Rs, ts, ns;
@@ -187,7 +194,7 @@ std::vector<Hypothesis> poseHypotheses(const TwoViewModels& models, bool use_h, 
       cv::cv2eigen(ts[k], t);
       if (t.norm() < 1e-9) continue;
       hyps.emplace_back();
-      checkRT(R, t.normalized(), m.b1, m.b2, models.inliers_h, focal, threshold_px, &hyps.back());
+      checkRT(R, t.normalized(), m.b1, m.b2, models.inliers_h, focal, params, &hyps.back());
     }
   } else {
     cv::Mat R1, R2, t;
@@ -200,7 +207,7 @@ std::vector<Hypothesis> poseHypotheses(const TwoViewModels& models, bool use_h, 
     for (const auto& R : {Ra, Rb})
       for (double s : {1.0, -1.0}) {
         hyps.emplace_back();
-        checkRT(R, s * te.normalized(), m.b1, m.b2, models.inliers_e, focal, threshold_px, &hyps.back());
+        checkRT(R, s * te.normalized(), m.b1, m.b2, models.inliers_e, focal, params, &hyps.back());
       }
   }
   return hyps;
@@ -215,7 +222,8 @@ const Hypothesis* selectHypothesis(std::vector<Hypothesis>* hyps, const TwoViewP
   std::sort(hyps->begin(), hyps->end(), [](const Hypothesis& a, const Hypothesis& b) { return a.good > b.good; });
   const Hypothesis& best = (*hyps)[0];
   const int second = hyps->size() > 1 ? (*hyps)[1].good : 0;
-  res->median_parallax_deg = best.parallax_deg;
+  res->median_parallax_deg = best.median_parallax_deg;
+  res->parallax_deg = best.parallax_deg;
   res->num_triangulated = best.good;
   if (best.good < params.min_triangulated) {
     res->reason = res->model + ": too few triangulated points (" + std::to_string(best.good) + ")";
@@ -226,8 +234,14 @@ const Hypothesis* selectHypothesis(std::vector<Hypothesis>* hyps, const TwoViewP
                   std::to_string(second) + ")";
     return nullptr;
   }
-  if (best.parallax_deg < params.min_parallax_deg) {
-    res->reason = res->model + ": parallax too low (" + std::to_string(best.parallax_deg) + " deg)";
+  // A homography fitted to a non-planar scene with little parallax decomposes into a wrong motion with spurious
+  // parallax (measured: 0.95 deg median where the essential matrix gives 0.2): its median point must pass.
+  const bool homography = res->model == "homography";
+  const double tested = homography ? best.median_parallax_deg : best.parallax_deg;
+  if (tested < params.min_parallax_deg ||
+      best.median_parallax_deg < (homography ? params.min_parallax_deg : params.min_median_parallax_deg)) {
+    res->reason = res->model + ": parallax too low (" + std::to_string(best.parallax_deg) + " deg; median " +
+                  std::to_string(best.median_parallax_deg) + ")";
     return nullptr;
   }
   return &best;
@@ -313,9 +327,31 @@ TwoViewResult initializeTwoView(const std::vector<Eigen::Vector3d>& b1, const st
   const double rh = res.score_h / std::max(1e-9, res.score_h + res.score_f);
   const bool use_h = models.have_h && (!models.have_e || rh > params.homography_ratio);
   res.model = use_h ? "homography" : "essential";
-  std::vector<Hypothesis> hyps = poseHypotheses(models, use_h, m, focal, params.threshold_px);
+  std::vector<Hypothesis> hyps = poseHypotheses(models, use_h, m, focal, params);
   const Hypothesis* best = selectHypothesis(&hyps, params, &res);
+  // Both models explain the matches about equally (small motion: R_H ~ 0.5) and the chosen one fails (e.g. an
+  // ambiguous homography decomposition): the other model gets the same checks.
+  std::vector<Hypothesis> other_hyps;
+  const bool have_other = use_h ? models.have_e : models.have_h;
+  if (!best && have_other && std::abs(rh - params.homography_ratio) < params.model_fallback_margin) {
+    TwoViewResult other = res;
+    other.model = use_h ? "essential" : "homography";
+    other_hyps = poseHypotheses(models, !use_h, m, focal, params);
+    best = selectHypothesis(&other_hyps, params, &other);
+    if (best) {
+      res = other;
+    } else {
+      res.reason += "; " + other.reason;
+    }
+  }
   if (best) refineTwoView(*best, m, focal, params, &res);
+  if (!res.ok) {
+    char buf[96];
+    std::snprintf(buf, sizeof(buf), " [R_H %.2f; inliers E %d H %d]", rh,
+                  static_cast<int>(std::count(models.inliers_e.begin(), models.inliers_e.end(), 1)),
+                  static_cast<int>(std::count(models.inliers_h.begin(), models.inliers_h.end(), 1)));
+    res.reason += buf;
+  }
   return res;
 }
 

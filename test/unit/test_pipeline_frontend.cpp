@@ -175,3 +175,62 @@ TEST(PipelineParams, ConfigFileThenOverridesNameTheirErrors) {
   EXPECT_NE(err.find("scale_factor"), std::string::npos) << err;
   EXPECT_FALSE(loadPipelineConfig(tmpRoot() + "missing.yaml", &p, &err));
 }
+
+// Resolution rule (pipeline_params.h, README): the documented values for the four cameras of issue 11; fields
+// given by a config file or a setting are kept.
+TEST(PipelineParams, ResolutionRuleValuesAndUserSettings) {
+  struct Case {
+    int w, h;
+    double f;
+    int n_features, cell_size, n_levels;
+    double radius, wide, refine;
+    int min_matches, min_triangulated, parallax_points;
+  };
+  const Case cases[] = {
+      {752, 480, 458.654, 1000, 35, 8, 15.0, 40.0, 4.0, 100, 60, 50},  // EuRoC: the struct defaults
+      {1241, 376, 718.856, 1150, 40, 8, 23.51, 62.69, 6.27, 115, 69, 57},
+      {512, 512, 190.978, 850, 30, 8, 6.25, 16.66, 2.0, 85, 51, 43},
+      {240, 180, 200.0, 500, 30, 5, 6.54, 17.44, 2.0, 50, 30, 25},
+  };
+  for (const Case& c : cases) {
+    const ResolutionDefaults d = resolutionDefaults(c.w, c.h, c.f);
+    SCOPED_TRACE(std::to_string(c.w) + "x" + std::to_string(c.h));
+    EXPECT_EQ(d.n_features, c.n_features);
+    EXPECT_EQ(d.cell_size, c.cell_size);
+    EXPECT_EQ(d.n_levels, c.n_levels);
+    EXPECT_NEAR(d.search_radius_px, c.radius, 0.01);
+    EXPECT_NEAR(d.search_radius_wide_px, c.wide, 0.01);
+    EXPECT_NEAR(d.search_radius_refine_px, c.refine, 0.01);
+    EXPECT_EQ(d.init_min_matches, c.min_matches);
+    EXPECT_EQ(d.init_min_triangulated, c.min_triangulated);
+    EXPECT_EQ(d.init_min_parallax_points, c.parallax_points);
+    PipelineParams p;
+    applyResolutionRule(c.w, c.h, c.f, &p);
+    EXPECT_EQ(p.features.n_features, c.n_features);
+    EXPECT_EQ(p.features.cell_size, c.cell_size);
+    EXPECT_EQ(validate(p), "");
+  }
+  // At EuRoC's size the rule reproduces the struct defaults.
+  const ResolutionDefaults euroc = resolutionDefaults(752, 480, 458.654);
+  EXPECT_EQ(euroc.n_features, FeatureParams().n_features);
+  EXPECT_EQ(euroc.cell_size, FeatureParams().cell_size);
+  EXPECT_EQ(euroc.n_levels, FeatureParams().n_levels);
+  EXPECT_DOUBLE_EQ(euroc.search_radius_px, TrackerParams().search_radius_px);
+  EXPECT_EQ(euroc.init_min_matches, TrackerParams().init_min_matches);
+  EXPECT_EQ(euroc.init_min_triangulated, TrackerParams().init_min_triangulated);
+  EXPECT_EQ(euroc.init_min_parallax_points, TrackerParams().init_min_parallax_points);
+
+  PipelineParams p;
+  std::string err;
+  ASSERT_TRUE(applyPipelineSetting("features.n_features=700", &p, &err)) << err;
+  EXPECT_FALSE(applyPipelineSetting("tracker.no_such=1", &p, &err));
+  EXPECT_EQ(p.user_set.count("tracker.no_such"), 0u);
+  const std::string path = tmpRoot() + "rule.yaml";
+  std::ofstream(path) << "tracker: {search_radius_px: 9}\n";
+  ASSERT_TRUE(loadPipelineConfig(path, &p, &err)) << err;
+  applyResolutionRule(240, 180, 200.0, &p);
+  EXPECT_EQ(p.features.n_features, 700);          // --set
+  EXPECT_DOUBLE_EQ(p.tracker.search_radius_px, 9.0);  // config file
+  EXPECT_EQ(p.features.n_levels, 5);              // rule
+  EXPECT_NEAR(p.tracker.search_radius_wide_px, 17.44, 0.01);
+}

@@ -83,6 +83,74 @@ TEST(TrackingGeometry, TwoViewRejectsPureRotation) {
   EXPECT_FALSE(r.reason.empty());
 }
 
+namespace {
+
+// A street seen by a forward-driving KITTI-like camera (1241x376, f 719): points on facades 4-8 m to the side
+// and on the road, 4-40 m ahead; T2 = 1 m forward and a 0.5 deg yaw (issue 11: 10 Hz at 10 m/s). Most points are
+// far or near the focus of expansion: the median parallax is below 1 deg, the 50 best points have more.
+void streetViews(const CameraModel& cam, const Eigen::Isometry3d& T2_c_w, std::vector<Eigen::Vector3d>* b1,
+                 std::vector<Eigen::Vector3d>* b2, std::mt19937* rng) {
+  std::uniform_real_distribution<double> side(3, 8), up(-3, 1.6), ahead(4, 40), u01(0, 1);
+  std::normal_distribution<double> nd(0.0, 0.5);
+  while (b1->size() < 300) {
+    const double r = u01(*rng);
+    Eigen::Vector3d X = r < 0.4   ? Eigen::Vector3d(-side(*rng), up(*rng), ahead(*rng))
+                        : r < 0.8 ? Eigen::Vector3d(side(*rng), up(*rng), ahead(*rng))
+                                  : Eigen::Vector3d(u01(*rng) * 8 - 4, 1.65, ahead(*rng));  // road (y down)
+    Eigen::Vector2d u1, u2;
+    const Eigen::Vector3d X2 = T2_c_w * X;
+    if (!cam.project(X, &u1) || !cam.project(X2, &u2) || X2.z() < 1.0) continue;
+    if (u1.x() < 0 || u1.y() < 0 || u1.x() >= cam.width() || u1.y() >= cam.height()) continue;
+    if (u2.x() < 0 || u2.y() < 0 || u2.x() >= cam.width() || u2.y() >= cam.height()) continue;
+    Eigen::Vector3d a, b;
+    ASSERT_TRUE(cam.unproject(u1 + Eigen::Vector2d(nd(*rng), nd(*rng)), &a));
+    ASSERT_TRUE(cam.unproject(u2 + Eigen::Vector2d(nd(*rng), nd(*rng)), &b));
+    b1->push_back(a);
+    b2->push_back(b);
+  }
+}
+
+}  // namespace
+
+// Forward motion initializes with the ORB-SLAM parallax test (the 50th best point >= 1 deg; median >= 0.5 deg),
+// not with the median rule (median >= 1 deg).
+TEST(TrackingGeometry, TwoViewInitForwardMotion) {
+  TestPinhole cam(1241, 376, 719.0, 607.0, 185.0);
+  std::mt19937 rng(21);
+  const Eigen::Isometry3d T2 = makePose({0.0, 0.5, 0.0}, {0.0, 0.0, -1.0});  // T_c2_c1: camera 1 m forward
+  std::vector<Eigen::Vector3d> b1, b2;
+  streetViews(cam, T2, &b1, &b2, &rng);
+  TwoViewParams p;
+  const TwoViewResult r = initializeTwoView(b1, b2, cam.focal(), p);
+  ASSERT_TRUE(r.ok) << r.reason;
+  EXPECT_LT(r.median_parallax_deg, 1.0);  // the old median rule would have refused
+  EXPECT_GE(r.median_parallax_deg, 0.5);
+  EXPECT_GE(r.parallax_deg, 1.0);
+  EXPECT_LT(rotationErrorDeg(r.R_21, T2.rotation()), 0.3);
+  const double tdir = std::acos(std::clamp(r.t_21.normalized().dot(T2.translation().normalized()), -1.0, 1.0));
+  EXPECT_LT(tdir * 180.0 / M_PI, 10.0);  // 1 m baseline, 0.5 px noise: the direction of t is weakly observed (~6 deg)
+  p.min_parallax_points = 0;  // median rule
+  const TwoViewResult median_rule = initializeTwoView(b1, b2, cam.focal(), p);
+  EXPECT_FALSE(median_rule.ok);
+  EXPECT_NE(median_rule.reason.find("parallax too low"), std::string::npos) << median_rule.reason;
+}
+
+// A camera standing still (pixel noise only) and a camera only rotating (fast pan) must not initialize with the
+// default parallax test (1 deg on the 50th best point). Measured: 0.5 deg is not enough, the 3 deg pan then
+// initializes through a homography with a wrong translation.
+TEST(TrackingGeometry, TwoViewRefusesNoParallax) {
+  for (const bool fisheye : {false, true}) {
+    auto cam = makeCam(fisheye);
+    for (const Eigen::Vector3d rpy : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.5, 3.0, 0.2)}) {
+      std::mt19937 rng(5);
+      std::vector<Eigen::Vector3d> b1, b2;
+      twoViews(*cam, makePose(rpy, {0, 0, 0}), false, &b1, &b2, &rng);
+      const TwoViewResult r = initializeTwoView(b1, b2, cam->focal(), TwoViewParams());
+      EXPECT_FALSE(r.ok) << "fisheye " << fisheye << " rotation " << rpy.transpose() << ": " << r.model;
+    }
+  }
+}
+
 TEST(TrackingGeometry, TriangulateBearings) {
   const Eigen::Isometry3d T1 = makePose({0, 0, 0}, {0, 0, 0}), T2 = makePose({0, 5, 0}, {-0.5, 0, 0});
   const Eigen::Vector3d X(0.3, -0.2, 4.0);

@@ -2,6 +2,7 @@
 // `features:`, `tracker:`; keys = the stages' parameter tables) and `section.key=value` overrides. ROS-free.
 #pragma once
 
+#include <set>
 #include <string>
 
 #include "iraf_vo/enhance/enhancer.h"
@@ -14,13 +15,44 @@ struct PipelineParams {
   EnhanceParams enhance;
   FeatureParams features;
   TrackerParams tracker;
+  /// "section.key" of every field a config file or a setting gave (applyResolutionRule keeps these).
+  std::set<std::string> user_set;
 };
 
+/// Resolution rule (issue 11). The defaults of the size-dependent fields are ORB-SLAM's for EuRoC cam0 (752x480,
+/// focal 458.654 px); for another camera they are derived from the image size and the focal length:
+///   s = sqrt(width * height / (752 * 480))                       (linear image-size ratio)
+///   features.n_features  = clamp(1000 s, 500, 2000), rounded to 50   (keypoint density ~ per image side)
+///   features.cell_size   = max(30, round(35 s))  (FAST / adaptive-threshold cell; measured, ATE % of the path:
+///                          240x180 sim_slider 16 px 2.3, 30 px 0.22, 35 px 0.31; 512x512 sim_clean_fisheye 30 px
+///                          0.24, 35 px 0.57; 1241x376 sim_drive 40 px 0.07, 35 px 0.14)
+///   features.n_levels    = 8, fewer so that the coarsest level's short side stays >= 80 px
+///                          (min(w, h) / scale_factor^(n_levels - 1) >= 80)
+///   tracker.search_radius_px / _wide_px / _refine_px = 15 / 40 / 4 px * focal / 458.654
+///                          (prediction errors are angles: pixels scale with the focal length), at least 5 / 15 / 2
+///   tracker.init_min_matches / init_min_triangulated / init_min_parallax_points = 100 / 60 / 50 * n_features / 1000
+/// Pixel-noise thresholds (init_threshold_px, pnp_threshold_px) and angles (parallax) do not depend on the camera.
+/// n_features, cell_size, n_levels, search radii, init matches / triangulated / parallax points:
+/// 752x480 f 458 (EuRoC): 1000, 35, 8, 15 / 40 / 4, 100 / 60 / 50 (= the struct defaults)
+/// 1241x376 f 719 (KITTI): 1150, 40, 8, 23.5 / 62.7 / 6.3, 115 / 69 / 57
+/// 512x512 f 191 (TUM-VI fisheye): 850, 30, 8, 6.2 / 16.7 / 2, 85 / 51 / 43
+/// 240x180 f 200 (DAVIS240): 500, 30, 5, 6.5 / 17.4 / 2, 50 / 30 / 25
+struct ResolutionDefaults {
+  int n_features = 1000, cell_size = 35, n_levels = 8;
+  double search_radius_px = 15.0, search_radius_wide_px = 40.0, search_radius_refine_px = 4.0;
+  int init_min_matches = 100, init_min_triangulated = 60, init_min_parallax_points = 50;
+};
+ResolutionDefaults resolutionDefaults(int width, int height, double focal, double scale_factor = 1.2);
+
+/// Sets the fields of the rule that are not in p->user_set to resolutionDefaults(width, height, focal,
+/// p->features.scale_factor). Returns a one-line summary of the values used (for logs).
+std::string applyResolutionRule(int width, int height, double focal, PipelineParams* p);
+
 /// Reads the optional sections of a YAML file (other top-level keys are ignored). false + *error naming the file,
-/// the section and the key; *p is unchanged for a section that fails.
+/// the section and the key; *p is unchanged for a section that fails. The keys read go to p->user_set.
 bool loadPipelineConfig(const std::string& path, PipelineParams* p, std::string* error);
 
-/// Applies one "section.key=value" (section enhance | features | tracker). false + *error.
+/// Applies one "section.key=value" (section enhance | features | tracker); the key goes to p->user_set. false + *error.
 bool applyPipelineSetting(const std::string& setting, PipelineParams* p, std::string* error);
 
 /// "" when every stage is usable, else the first stage's validation message.

@@ -35,9 +35,14 @@ double reprojectionError2(const CameraModel& cam, const Eigen::Isometry3d& T_c_w
 // ---------------------------------------------------------------------------------------------
 struct TwoViewParams {
   double threshold_px = 1.5;       // RANSAC / scoring inlier threshold (pixels at level 0; converted with focal)
-  double min_parallax_deg = 1.0;   // median parallax of the triangulated points
+  double min_parallax_deg = 1.0;   // parallax test: at least min_parallax_points triangulated points (all if
+  int min_parallax_points = 50;    // fewer) have this parallax (ORB-SLAM); min_parallax_points 0 = the median
+  double min_median_parallax_deg = 0.5;  // and the median point has this parallax. A homography's median point
+                                         // needs min_parallax_deg.
   int min_triangulated = 50;
   double homography_ratio = 0.45;  // R_H = S_H / (S_H + S_F) above this -> homography (ORB-SLAM)
+  double model_fallback_margin = 0.1;  // |R_H - homography_ratio| below this and the chosen model fails its
+                                       // checks -> the other model is tried (0 = never)
 };
 
 struct TwoViewResult {
@@ -50,6 +55,7 @@ struct TwoViewResult {
   std::vector<char> triangulated;       // per match
   int num_triangulated = 0;
   double median_parallax_deg = 0.0;
+  double parallax_deg = 0.0;       // the tested parallax (min_parallax_points-th largest, or the median)
   double score_h = 0.0, score_f = 0.0;
 };
 

@@ -33,6 +33,9 @@ class MapInitializer {
   /// (*kf0 = reference, *kf1 = cur), cur.T_c_w and cur.point_id are set and *num_points = points created.
   bool initialize(Frame& cur, const MapAnchor& anchor, Map* map, KeyframePtr* kf0, KeyframePtr* kf1,
                   int* num_points);
+  /// Why the last initialize() call failed ("" after a success), e.g. "too few matches (42 < 100)" or
+  /// "essential: parallax too low (0.4 deg)"; for logs (TrackResult::init_status, the frame log).
+  const std::string& lastFailure() const { return last_failure_; }
 
  private:
   /// Matches cur against the reference; fewer than init_min_matches -> empty (and cur becomes the reference).
@@ -43,6 +46,7 @@ class MapInitializer {
   Matcher matcher_;
   bool have_reference_ = false;
   Frame reference_;
+  std::string last_failure_;
 };
 
 }  // namespace iraf_vo

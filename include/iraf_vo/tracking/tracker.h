@@ -71,6 +71,7 @@ struct TrackResult {
   double inlier_ratio = 0.0;  // inliers / matches of the final pose refinement
   double median_chi2 = 0.0;   // of the inliers
   std::string rejected;       // why the health monitor rejected a computed pose ("" if it did not)
+  std::string init_status;    // while initializing: why this frame did not initialize the map
   TrackTiming timing;
 };
 
