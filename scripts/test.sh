@@ -33,67 +33,50 @@ if [ -d "$BUILD_DIR/test_results" ]; then
   catkin_test_results "$BUILD_DIR/test_results" || status=1
 fi
 
-# ---- ASan + UBSan: core library + unit tests (gtests) in a separate build dir ----
-SANITIZE="${IRAF_VO_SANITIZE:-}"
-if [ -z "$SANITIZE" ]; then
-  if [ "${CI:-}" = true ]; then SANITIZE=1; else SANITIZE=0; fi
-fi
-if [ "$SANITIZE" = 1 ]; then
-  ASAN_DIR="${IRAF_VO_ASAN_BUILD_DIR:-$ROOT/build-asan}"
+# ---- sanitizer stages: configure + build the given targets in their own build dir, run the given ctest regex ----
+# sanitizer_stage NAME DIR SANITIZE_VALUE CTEST_REGEX TARGET...
+sanitizer_stage() {
+  local name="$1" dir="$2" value="$3" regex="$4"
+  shift 4
+  local t0
   t0=$(date +%s)
-  mkdir -p "$ASAN_DIR"
-  export ROS_HOME="$ASAN_DIR/ros_home" ROS_LOG_DIR="$ASAN_DIR/ros_home/log"
+  mkdir -p "$dir"
+  export ROS_HOME="$dir/ros_home" ROS_LOG_DIR="$dir/ros_home/log"
   mkdir -p "$ROS_LOG_DIR"
-  cmake -S "$ROOT" -B "$ASAN_DIR" -DCMAKE_BUILD_TYPE=Release -DIRAF_VO_SANITIZE=ON \
+  cmake -S "$ROOT" -B "$dir" -DCMAKE_BUILD_TYPE=Release -DIRAF_VO_SANITIZE="$value" \
     -DPYTHON_EXECUTABLE=/usr/bin/python3 -DPython3_EXECUTABLE=/usr/bin/python3 \
-    -DCATKIN_ENABLE_TESTING=ON >"$ASAN_DIR/cmake.log" 2>&1 \
-    || { cat "$ASAN_DIR/cmake.log"; echo "test.sh: sanitizer cmake configure failed" >&2; exit 1; }
+    -DCATKIN_ENABLE_TESTING=ON >"$dir/cmake.log" 2>&1 \
+    || { cat "$dir/cmake.log"; echo "test.sh: $name cmake configure failed" >&2; exit 1; }
+  cmake --build "$dir" --target "$@" -j"$(nproc)"
+  rm -rf "$dir/test_results"
+  echo "test.sh: running the unit tests under $name ($dir)"
+  (cd "$dir" && ctest --output-on-failure -j"$(nproc)" -R "$regex") || status=1
+  if [ -d "$dir/test_results" ]; then
+    catkin_test_results "$dir/test_results" || status=1
+  fi
+  echo "test.sh: $name stage took $(( $(date +%s) - t0 )) s"
+}
+default_on_in_ci() { if [ -n "$1" ]; then echo "$1"; elif [ "${CI:-}" = true ]; then echo 1; else echo 0; fi; }
+
+# ASan + UBSan: core library + every unit test. LeakSanitizer needs ptrace-like access (works as root / with
+# CAP_SYS_PTRACE; set detect_leaks=0 where it cannot run). Every UBSan check is fatal (CMakeLists.txt).
+if [ "$(default_on_in_ci "${IRAF_VO_SANITIZE:-}")" = 1 ]; then
   targets=()
   for f in "$ROOT"/test/unit/test_*.cpp; do targets+=("$(basename "$f" .cpp)"); done
   if [ "${IRAF_VO_SANITIZE_TOOLS:-0}" = 1 ]; then
     for f in "$ROOT"/src/tools/*.cpp; do targets+=("$(basename "$f" .cpp)"); done
   fi
-  cmake --build "$ASAN_DIR" --target "${targets[@]}" -j"$(nproc)"
-  # LeakSanitizer needs ptrace-like access (works as root / with CAP_SYS_PTRACE; set detect_leaks=0 where it
-  # cannot run). Every UBSan check is fatal (-fno-sanitize-recover=undefined in CMakeLists.txt).
   export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1}"
   export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
   export LSAN_OPTIONS="${LSAN_OPTIONS:-suppressions=$ROOT/test/sanitizers/lsan.supp:print_suppressions=0}"
-  rm -rf "$ASAN_DIR/test_results"
-  cd "$ASAN_DIR"
-  echo "test.sh: running the unit tests under ASan + UBSan ($ASAN_DIR)"
-  ctest --output-on-failure -j"$(nproc)" -R gtest || status=1
-  if [ -d "$ASAN_DIR/test_results" ]; then
-    catkin_test_results "$ASAN_DIR/test_results" || status=1
-  fi
-  echo "test.sh: sanitizer stage took $(( $(date +%s) - t0 )) s"
+  sanitizer_stage "ASan + UBSan" "${IRAF_VO_ASAN_BUILD_DIR:-$ROOT/build-asan}" ON gtest "${targets[@]}"
 fi
 
-# ---- ThreadSanitizer: core + tracking unit tests (tracking thread + local-mapping thread) ----
-TSAN="${IRAF_VO_TSAN:-}"
-if [ -z "$TSAN" ]; then
-  if [ "${CI:-}" = true ]; then TSAN=1; else TSAN=0; fi
-fi
-if [ "$TSAN" = 1 ]; then
-  TSAN_DIR="${IRAF_VO_TSAN_BUILD_DIR:-$ROOT/build-tsan}"
-  t0=$(date +%s)
-  mkdir -p "$TSAN_DIR"
-  export ROS_HOME="$TSAN_DIR/ros_home" ROS_LOG_DIR="$TSAN_DIR/ros_home/log"
-  mkdir -p "$ROS_LOG_DIR"
-  cmake -S "$ROOT" -B "$TSAN_DIR" -DCMAKE_BUILD_TYPE=Release -DIRAF_VO_SANITIZE=thread \
-    -DPYTHON_EXECUTABLE=/usr/bin/python3 -DPython3_EXECUTABLE=/usr/bin/python3 \
-    -DCATKIN_ENABLE_TESTING=ON >"$TSAN_DIR/cmake.log" 2>&1 \
-    || { cat "$TSAN_DIR/cmake.log"; echo "test.sh: tsan cmake configure failed" >&2; exit 1; }
+# ThreadSanitizer: core + the tracking tests (tracking thread + local-mapping thread).
+if [ "$(default_on_in_ci "${IRAF_VO_TSAN:-}")" = 1 ]; then
   tsan_tests=(test_tracking_roles test_tracking_pipeline test_tracking_health test_tracking_e2e)
-  cmake --build "$TSAN_DIR" --target "${tsan_tests[@]}" -j"$(nproc)"
   export TSAN_OPTIONS="${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1:suppressions=$ROOT/test/sanitizers/tsan.supp}"
-  rm -rf "$TSAN_DIR/test_results"
-  cd "$TSAN_DIR"
-  echo "test.sh: running the tracking unit tests under ThreadSanitizer ($TSAN_DIR)"
-  ctest --output-on-failure -j"$(nproc)" -R "gtest_($(IFS='|'; echo "${tsan_tests[*]}"))\$" || status=1
-  if [ -d "$TSAN_DIR/test_results" ]; then
-    catkin_test_results "$TSAN_DIR/test_results" || status=1
-  fi
-  echo "test.sh: thread sanitizer stage took $(( $(date +%s) - t0 )) s"
+  sanitizer_stage ThreadSanitizer "${IRAF_VO_TSAN_BUILD_DIR:-$ROOT/build-tsan}" thread \
+    "gtest_($(IFS='|'; echo "${tsan_tests[*]}"))\$" "${tsan_tests[@]}"
 fi
 exit $status

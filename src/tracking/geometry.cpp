@@ -15,12 +15,6 @@ namespace iraf_vo {
 
 namespace {
 
-Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
-}
-
 // Pose block layout: [tx ty tz qx qy qz qw] of T_c_w. Tangent: [dt, dtheta] with the left perturbation
 // t' = t + dt, R' = Exp(dtheta) R. The cost functions fill the first 6 columns of their 2x7 pose Jacobian
 // with the tangent Jacobian, so PlusJacobian = [I6; 0].

@@ -5,16 +5,6 @@
 
 namespace iraf_vo {
 
-namespace {
-
-Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
-}
-
-}  // namespace
-
 Eigen::Matrix<double, 6, 6> poseInformation(const CameraModel& cam, const std::vector<Eigen::Vector3d>& p_w,
                                             const std::vector<Eigen::Vector2d>& uv, const std::vector<double>& sigma,
                                             const Eigen::Isometry3d& T_c_w) {

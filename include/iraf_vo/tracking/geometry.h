@@ -18,6 +18,13 @@
 
 namespace iraf_vo {
 
+/// Cross-product matrix: skew(v) x = v.cross(x).
+inline Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return m;
+}
+
 /// Linear (DLT on bearings, [b]x P X = 0) triangulation of a point seen as bearing b1 from T1_c_w and
 /// b2 from T2_c_w. Returns false when the system is degenerate (point at infinity).
 bool triangulateBearings(const Eigen::Isometry3d& T1_c_w, const Eigen::Vector3d& b1,
