@@ -90,7 +90,8 @@ bool MapInitializer::initialize(Frame& cur, const MapAnchor& anchor, Map* map, K
   }
   BAOptions options;
   options.max_num_iterations = 20;
-  options.max_solver_time_in_seconds = 0.5;
+  options.max_cpu_seconds = 0.5;  // CPU time: the result does not depend on the machine load
+  options.max_solver_time_in_seconds = 10.0;  // wall-clock safety cap only
   options.huber_delta = p_.ba_huber_delta;
   BASummary summary;
   bundleAdjust(cam_, &ba_keyframes, &ba_points, ba_observations, options, &summary);

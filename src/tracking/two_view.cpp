@@ -269,7 +269,8 @@ void refineTwoView(const Hypothesis& best, const ForwardMatches& m, double focal
   }
   BAOptions bao;
   bao.max_num_iterations = 15;
-  bao.max_solver_time_in_seconds = 0.2;
+  bao.max_cpu_seconds = 0.2;  // CPU time: the result does not depend on the machine load
+  bao.max_solver_time_in_seconds = 4.0;  // wall-clock safety cap only
   bao.huber_delta = 1.0;
   BASummary bs;
   Eigen::Matrix3d R = best.R;
