@@ -58,11 +58,11 @@ sanitizer_stage() {
 }
 default_on_in_ci() { if [ -n "$1" ]; then echo "$1"; elif [ "${CI:-}" = true ]; then echo 1; else echo 0; fi; }
 
-# ASan + UBSan: core library + every unit test. LeakSanitizer needs ptrace-like access (works as root / with
+# ASan + UBSan: core library + every gtest (test/unit, and test/ros_unit with the ROS glue). LeakSanitizer needs ptrace-like access (works as root / with
 # CAP_SYS_PTRACE; set detect_leaks=0 where it cannot run). Every UBSan check is fatal (CMakeLists.txt).
 if [ "$(default_on_in_ci "${IRAF_VO_SANITIZE:-}")" = 1 ]; then
   targets=()
-  for f in "$ROOT"/test/unit/test_*.cpp; do targets+=("$(basename "$f" .cpp)"); done
+  for f in "$ROOT"/test/unit/test_*.cpp "$ROOT"/test/ros_unit/test_*.cpp; do targets+=("$(basename "$f" .cpp)"); done
   if [ "${IRAF_VO_SANITIZE_TOOLS:-0}" = 1 ]; then
     for f in "$ROOT"/src/tools/*.cpp; do targets+=("$(basename "$f" .cpp)"); done
   fi
