@@ -1,19 +1,14 @@
+#include <iraf_vo/common/wall_clock.h>
 #include <iraf_vo/tracking/pose_tracker.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cstring>
 
 namespace iraf_vo {
 
-namespace {
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-}  // namespace
-
 PoseTrackingResult PoseTracker::trackLocalMap(Frame& cur, const Eigen::Isometry3d& T_predicted, Map* map) const {
   PoseTrackingResult res;
-  auto t0 = Clock::now();
+  auto t0 = SteadyClock::now();
   const std::vector<LocalPoint> local = map->localPoints();
   MatchSet matches(cur.size(), local.size());
   std::vector<char> visible(local.size(), 0);
@@ -26,17 +21,17 @@ PoseTrackingResult PoseTracker::trackLocalMap(Frame& cur, const Eigen::Isometry3
   res.ms_match += msSince(t0);
   int inliers = 0;
   if (n >= p_.min_search_matches) {
-    t0 = Clock::now();
+    t0 = SteadyClock::now();
     inliers = refinePose(cur, local, &matches, &T);
     res.ms_pose += msSince(t0);
   }
   if (inliers < p_.min_tracking_inliers) {
-    t0 = Clock::now();
+    t0 = SteadyClock::now();
     inliers = relocalize(cur, local, &matches, &T);
     res.used_pnp = inliers > 0;
     res.ms_match += msSince(t0);
     if (inliers >= p_.min_tracking_inliers) {
-      t0 = Clock::now();
+      t0 = SteadyClock::now();
       inliers = refinePose(cur, local, &matches, &T);
       res.ms_pose += msSince(t0);
     }
@@ -45,10 +40,10 @@ PoseTrackingResult PoseTracker::trackLocalMap(Frame& cur, const Eigen::Isometry3
   res.inliers = inliers;
   if (inliers < p_.min_tracking_inliers) return res;
   // Second, narrow pass with the refined pose.
-  t0 = Clock::now();
+  t0 = SteadyClock::now();
   matcher_.searchByProjection(cur, T, local, p_.search_radius_refine_px, 1, &matches, &visible);
   res.ms_match += msSince(t0);
-  t0 = Clock::now();
+  t0 = SteadyClock::now();
   res.refine_matches = matches.size();
   res.inliers = refinePose(cur, local, &matches, &T);
   res.ms_pose += msSince(t0);

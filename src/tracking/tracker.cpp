@@ -1,6 +1,7 @@
 // The tracker's state machine (tracking thread): initialization -> tracking -> lost -> relocalization or
 // reset. It owns the map, the local mapper, the initializer and the pose tracker and coordinates them
 // (see tracker.h for the whole algorithm).
+#include <iraf_vo/common/wall_clock.h>
 #include <iraf_vo/tracking/tracker.h>
 
 #include <iraf_vo/tracking/health_monitor.h>
@@ -12,17 +13,11 @@
 
 #include <algorithm>
 #include <atomic>
-#include <chrono>
 #include <mutex>
 #include <stdexcept>
 #include <unordered_map>
 
 namespace iraf_vo {
-
-namespace {
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-}  // namespace
 
 const char* toString(TrackingState s) {
   switch (s) {
@@ -81,7 +76,7 @@ struct Tracker::Impl {
   void handleLostFrame(const Frame& cur);
   void resetMap();
   void onTracked(const Frame& cur, TrackResult* res, bool is_keyframe);
-  TrackResult notTracked(TrackingState reported, Clock::time_point t_start, TrackResult res) const {
+  TrackResult notTracked(TrackingState reported, SteadyClock::time_point t_start, TrackResult res) const {
     res.state = reported;
     res.T_w_c = last_good_T_w_c;
     res.timing.ms_total = msSince(t_start);
@@ -90,11 +85,11 @@ struct Tracker::Impl {
 };
 
 TrackResult Tracker::Impl::track(const FeatureFrame& in) {
-  const auto t_start = Clock::now();
+  const auto t_start = SteadyClock::now();
   TrackResult res;
   Frame cur;
   std::string err;
-  auto t0 = Clock::now();
+  auto t0 = SteadyClock::now();
   const bool ok_input = Frame::fromFeatures(in, *cam, frame_counter, &cur, &err);
   res.timing.ms_prepare = msSince(t0);
   ++frame_counter;
@@ -103,7 +98,7 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in) {
   if (!ok_input) return notTracked(state == TrackingState::kTracking ? TrackingState::kLost : state.load(), t_start, res);
 
   if (state == TrackingState::kNotInitialized || state == TrackingState::kInitializing) {
-    t0 = Clock::now();
+    t0 = SteadyClock::now();
     const bool done = initializeMap(cur, &res);
     res.timing.ms_init = msSince(t0);
     if (!done) {
@@ -122,7 +117,7 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in) {
     });
     if (p.mapping_thread && p.ba_deferred_commit) mapper.mapKeyframeInTracking(last_kf_id);
     onTracked(cur, &res, true);  // before the mapper can move the keyframe: the last frame follows its BA
-    t0 = Clock::now();
+    t0 = SteadyClock::now();
     mapper.insertKeyframe(last_kf_id);
     res.timing.ms_keyframe = msSince(t0);
     res.timing.ms_total = msSince(t_start);
@@ -143,7 +138,7 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in) {
   state = TrackingState::kTracking;
   consecutive_lost = 0;
   ++frames_since_kf;
-  t0 = Clock::now();
+  t0 = SteadyClock::now();
   const bool new_keyframe = addKeyframeIfNeeded(cur, &res);
   onTracked(cur, &res, res.is_keyframe);
   map_update.unlock();
