@@ -5,6 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "iraf_vo/common/wall_clock.h"
@@ -125,6 +126,44 @@ void applyLut(const cv::Mat& src, const std::array<uint8_t, 256>& lut, bool inve
   cv::LUT(src, cv::Mat(1, 256, CV_8U, full.data()), dst);
 }
 
+// One row of eqs. (11)-(12): out = sat(wi * I + wb * B + wg * G + 0.5), truncated. The vector part does the same
+// float operations in the same order as the scalar tail (no fused multiply-add), so both give identical bytes.
+void blendRow(const uint8_t* pi, const uint8_t* pb, const uint8_t* pg, float wi, float wb, float wg, int n,
+              uint8_t* po) {
+  int c = 0;
+#if CV_SIMD128
+  const cv::v_float32x4 vwi = cv::v_setall_f32(wi), vwb = cv::v_setall_f32(wb), vwg = cv::v_setall_f32(wg);
+  const cv::v_float32x4 half = cv::v_setall_f32(0.5f), lo = cv::v_setzero_f32(), hi = cv::v_setall_f32(255.f);
+  auto blend4 = [&](const cv::v_uint32x4& i, const cv::v_uint32x4& b, const cv::v_uint32x4& g) {
+    const cv::v_float32x4 fi = cv::v_cvt_f32(cv::v_reinterpret_as_s32(i));
+    const cv::v_float32x4 fb = cv::v_cvt_f32(cv::v_reinterpret_as_s32(b));
+    const cv::v_float32x4 fg = cv::v_cvt_f32(cv::v_reinterpret_as_s32(g));
+    const cv::v_float32x4 v = vwi * fi + vwb * fb + vwg * fg + half;
+    return cv::v_trunc(cv::v_min(hi, cv::v_max(lo, v)));
+  };
+  for (; c + 16 <= n; c += 16) {
+    cv::v_uint16x8 i16[2], b16[2], g16[2];
+    cv::v_expand(cv::v_load(pi + c), i16[0], i16[1]);
+    cv::v_expand(cv::v_load(pb + c), b16[0], b16[1]);
+    cv::v_expand(cv::v_load(pg + c), g16[0], g16[1]);
+    cv::v_int32x4 out[4];
+    for (int h = 0; h < 2; ++h) {
+      cv::v_uint32x4 i32[2], b32[2], g32[2];
+      cv::v_expand(i16[h], i32[0], i32[1]);
+      cv::v_expand(b16[h], b32[0], b32[1]);
+      cv::v_expand(g16[h], g32[0], g32[1]);
+      out[2 * h] = blend4(i32[0], b32[0], g32[0]);
+      out[2 * h + 1] = blend4(i32[1], b32[1], g32[1]);
+    }
+    cv::v_store(po + c, cv::v_pack_u(cv::v_pack(out[0], out[1]), cv::v_pack(out[2], out[3])));
+  }
+#endif
+  for (; c < n; ++c) {
+    const float v = wi * pi[c] + wb * pb[c] + wg * pg[c];
+    po[c] = static_cast<uint8_t>(std::min(255.f, std::max(0.f, v + 0.5f)));
+  }
+}
+
 }  // namespace
 
 EnhanceResult Enhancer::enhance(const cv::Mat& gray, const EnhanceParams& cfg) {
@@ -182,16 +221,9 @@ EnhanceResult Enhancer::enhance(const cv::Mat& gray, const EnhanceParams& cfg) {
       const float wb = static_cast<float>(1.0 - cfg.epsilon - cfg.eta);
       const float wg = static_cast<float>(cfg.epsilon);
       res.image.create(gray.size(), CV_8UC1);
-      for (int r = 0; r < gray.rows; ++r) {
-        const uint8_t* pi = gray.ptr<uint8_t>(r);
-        const uint8_t* pb = blurred_.ptr<uint8_t>(r);
-        const uint8_t* pg = gamma_img->ptr<uint8_t>(r);
-        uint8_t* po = res.image.ptr<uint8_t>(r);
-        for (int c = 0; c < gray.cols; ++c) {
-          const float v = wi * pi[c] + wb * pb[c] + wg * pg[c];
-          po[c] = static_cast<uint8_t>(std::min(255.f, std::max(0.f, v + 0.5f)));
-        }
-      }
+      for (int r = 0; r < gray.rows; ++r)
+        blendRow(gray.ptr<uint8_t>(r), blurred_.ptr<uint8_t>(r), gamma_img->ptr<uint8_t>(r), wi, wb, wg, gray.cols,
+                 res.image.ptr<uint8_t>(r));
       break;
     }
   }

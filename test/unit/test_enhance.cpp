@@ -113,6 +113,31 @@ TEST(Enhancer, NormalImageOnlyGetsGaussianAndSharpening) {
   EXPECT_GT(cv::norm(r.image, img, cv::NORM_L1), 0.0);  // sharpening did change it
 }
 
+TEST(Enhancer, CombinationEqualsScalarEquationsElevenTwelveExactly) {
+  // A dim image (so I_gamma != I_gauss) whose width is not a multiple of the vector width: the vectorized blend
+  // and the scalar tail must both give the bytes of eqs. (11)-(12) computed here pixel by pixel.
+  cv::Mat img(23, 37, CV_8U);
+  cv::RNG rng(11);
+  rng.fill(img, cv::RNG::UNIFORM, 0, 60);
+  EnhanceParams p;
+  Enhancer e;
+  const EnhanceResult r = e.enhance(img, p);
+  ASSERT_EQ(r.brightness, BrightnessClass::kDim);
+  cv::Mat B;
+  cv::GaussianBlur(img, B, cv::Size(p.gaussian_kernel_size, p.gaussian_kernel_size), p.gaussian_sigma,
+                   p.gaussian_sigma, cv::BORDER_REFLECT_101 | cv::BORDER_ISOLATED);
+  const auto lut = agcwdLut(histogram256(B), p.dim_lambda, p.dim_tau);
+  const float wi = static_cast<float>(p.eta), wb = static_cast<float>(1.0 - p.epsilon - p.eta),
+              wg = static_cast<float>(p.epsilon);
+  for (int y = 0; y < img.rows; ++y)
+    for (int x = 0; x < img.cols; ++x) {
+      const uint8_t b = B.at<uint8_t>(y, x);
+      const float v = wi * img.at<uint8_t>(y, x) + wb * b + wg * lut[b];
+      ASSERT_EQ(r.image.at<uint8_t>(y, x), static_cast<uint8_t>(std::min(255.f, std::max(0.f, v + 0.5f))))
+          << "at (" << x << ", " << y << ")";
+    }
+}
+
 TEST(Enhancer, SharpeningIsNotClippedBeforeCombination) {
   // A dark step edge: the negative side of the unsharp mask must survive (signed arithmetic).
   cv::Mat img(40, 40, CV_8U, cv::Scalar(100));
