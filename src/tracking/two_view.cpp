@@ -163,11 +163,7 @@ TwoViewModels fitEssentialAndHomography(const ForwardMatches& m, double focal, c
   TwoViewModels models;
   const double th_norm = params.threshold_px / focal;
   cv::Mat mask_e, mask_h;
-  // E by OpenCV's USAC with local optimization (USAC_ACCURATE): plain RANSAC returned the first model with the most
-  // inliers, which at ~1 deg parallax was at times the rotation-translation ambiguity's wrong minimum (translation
-  // 50 deg off, rotation 6 instead of 4.9 deg, on the simulated room; then tracked as TRACKING for 40 frames). USAC's
-  // least-squares refinement of the inlier set found the right one on those frames. Seeded internally: deterministic.
-  models.E = cv::findEssentialMat(m.c1, m.c2, cv::Mat::eye(3, 3, CV_64F), cv::USAC_ACCURATE, 0.999, th_norm, mask_e);
+  models.E = cv::findEssentialMat(m.c1, m.c2, cv::Mat::eye(3, 3, CV_64F), cv::RANSAC, 0.999, th_norm, mask_e);
   models.H = cv::findHomography(m.c1, m.c2, cv::RANSAC, th_norm, mask_h, 2000, 0.999);
   models.have_e = models.E.rows == 3 && models.E.cols == 3;
   models.have_h = models.H.rows == 3 && models.H.cols == 3;
