@@ -142,47 +142,98 @@ std::vector<std::pair<int, int>> Matcher::matchBruteForce(const cv::Mat& query, 
   return out;
 }
 
+namespace {
+
+// Keypoints of keyframe 2 indexed by the epipolar plane they lie on. Every epipolar plane contains t_21, so its
+// normal is n(phi) = cos(phi) e1 + sin(phi) e2 with (e1, e2) a basis orthogonal to t_21, and for a bearing b with
+// e1.b = rho cos(psi), e2.b = rho sin(psi): n.b = rho cos(phi - psi). The gate |n.b| <= g therefore holds only for
+// phi within asin(g / rho) of kappa = psi + 90 deg (mod 180 deg): sorted by kappa, a keypoint's candidates are one
+// range (two at the wrap). Bearings near the epipole (wide angle) are checked for every keypoint. The index only
+// preselects: the gate itself is evaluated exactly as without it.
+class EpipolarIndex {
+ public:
+  static constexpr double kMaxHalfWidth = 0.05;  // rad; wider candidates go to the always-checked list
+
+  EpipolarIndex(const Eigen::Vector3d& t21, const std::vector<Eigen::Vector3d>& bearings, const std::vector<double>& gate)
+      : e1_(t21.normalized().unitOrthogonal()), e2_(t21.normalized().cross(e1_)) {
+    for (size_t c = 0; c < bearings.size(); ++c) {
+      const double u = e1_.dot(bearings[c]), v = e2_.dot(bearings[c]), rho = std::hypot(u, v);
+      if (!(gate[c] < rho * std::sin(kMaxHalfWidth))) {
+        always_.push_back(static_cast<int>(c));
+        continue;
+      }
+      sorted_.push_back({wrap(std::atan2(v, u) + M_PI / 2), static_cast<int>(c)});
+    }
+    std::sort(sorted_.begin(), sorted_.end());
+  }
+
+  /// Calls visit(c) for every candidate c whose gate can hold for the plane with normal n (n orthogonal to t21).
+  template <typename Visit>
+  void forEachNear(const Eigen::Vector3d& n, Visit visit) const {
+    for (int c : always_) visit(c);
+    const double phi = wrap(std::atan2(e2_.dot(n), e1_.dot(n)));
+    const double lo = phi - kMaxHalfWidth, hi = phi + kMaxHalfWidth;
+    visitRange(std::max(0.0, lo), std::min(M_PI, hi), visit);
+    if (lo < 0) visitRange(lo + M_PI, M_PI, visit);
+    if (hi > M_PI) visitRange(0.0, hi - M_PI, visit);
+  }
+
+ private:
+  static double wrap(double a) {  // into [0, pi)
+    a = std::fmod(a, M_PI);
+    return a < 0 ? a + M_PI : a;
+  }
+  template <typename Visit>
+  void visitRange(double from, double to, Visit& visit) const {
+    auto it = std::lower_bound(sorted_.begin(), sorted_.end(), std::make_pair(from, -1));
+    for (; it != sorted_.end() && it->first <= to; ++it) visit(it->second);
+  }
+
+  Eigen::Vector3d e1_, e2_;
+  std::vector<std::pair<double, int>> sorted_;  // (kappa, candidate)
+  std::vector<int> always_;
+};
+
+}  // namespace
+
 std::vector<int> Matcher::searchForTriangulation(const Keyframe& kf1, const std::vector<char>& used1, const Keyframe& kf2,
                                                  const std::vector<long>& point_id2, const Eigen::Isometry3d& T_21) const {
   const double f = cam_.focal();
   const Eigen::Matrix3d R21 = T_21.rotation();
   const Eigen::Vector3d t21 = T_21.translation();
-  // Candidates of kf2 as columns (bearing, gate): the epipolar gate, three multiply-adds, runs before the Hamming
-  // distance and discards all but the few percent of candidates near the epipolar plane (same matches as
-  // distance-then-gate: the best distance among the candidates that pass the gate).
+  std::vector<int> match_of_2(kf2.keypoints.size(), -1), dist_of_2(kf2.keypoints.size(), 256);
+  if (!(t21.norm() > 1e-12)) return match_of_2;
   std::vector<int> candidates2;
-  std::vector<double> bx, by, bz, gate;
+  std::vector<Eigen::Vector3d> bearings2;
+  std::vector<double> gate;
   for (size_t j = 0; j < kf2.keypoints.size(); ++j) {
     if (point_id2[j] >= 0 || !kf2.valid[j]) continue;
     candidates2.push_back(static_cast<int>(j));
-    bx.push_back(kf2.bearings[j].x());
-    by.push_back(kf2.bearings[j].y());
-    bz.push_back(kf2.bearings[j].z());
+    bearings2.push_back(kf2.bearings[j]);
     // |n . b2| = sin(angle to the epipolar plane); gate at 2 sigma (chi2 1 dof 3.84) in pixels
     gate.push_back(1.96 * kf2.sigma(kf2.keypoints[j].octave) / f);
   }
-  const size_t n2 = candidates2.size();
-  std::vector<char> near(n2);
-  std::vector<int> match_of_2(kf2.keypoints.size(), -1), dist_of_2(kf2.keypoints.size(), 256);
+  const EpipolarIndex index(t21, bearings2, gate);
   for (size_t i = 0; i < kf1.keypoints.size(); ++i) {
     if (used1[i]) continue;
     Eigen::Vector3d n = t21.cross(R21 * kf1.bearings[i]);  // epipolar plane normal in frame 2
     const double nn = n.norm();
     if (nn < 1e-12) continue;
     n /= nn;
-    const double nx = n.x(), ny = n.y(), nz = n.z();
-    for (size_t c = 0; c < n2; ++c) near[c] = std::abs(nx * bx[c] + ny * by[c] + nz * bz[c]) <= gate[c];
     const uint8_t* d1 = kf1.descriptors.ptr<uint8_t>(static_cast<int>(i));
-    int best = p_.match_threshold_low + 1, best_j = -1;
-    for (size_t c = 0; c < n2; ++c) {
-      if (!near[c]) continue;
-      const int j = candidates2[c];
-      const int d = hammingDistance(d1, kf2.descriptors.ptr<uint8_t>(j));
-      if (d >= best) continue;
-      best = d;
-      best_j = j;
-    }
-    if (best_j < 0 || best >= dist_of_2[best_j]) continue;
+    // The closest descriptor among the candidates within the gate; ties go to the lowest candidate index.
+    int best = p_.match_threshold_low + 1, best_c = -1;
+    index.forEachNear(n, [&](int c) {
+      if (!(std::abs(n.dot(bearings2[c])) <= gate[c])) return;
+      const int d = hammingDistance(d1, kf2.descriptors.ptr<uint8_t>(candidates2[c]));
+      if (d < best || (d == best && best_c >= 0 && c < best_c)) {
+        best = d;
+        best_c = c;
+      }
+    });
+    if (best_c < 0) continue;
+    const int best_j = candidates2[best_c];
+    if (best >= dist_of_2[best_j]) continue;
     dist_of_2[best_j] = best;
     match_of_2[best_j] = static_cast<int>(i);
   }
