@@ -9,6 +9,7 @@
 #include "iraf_vo/EnhanceStats.h"
 #include "iraf_vo/FeaturesConfig.h"
 #include "iraf_vo/features/feature_extractor.h"
+#include "iraf_vo/pipeline/pipeline_params.h"
 #include "iraf_vo/ros/feature_conversion.h"
 #include "iraf_vo/ros/image_conversion.h"
 #include "stage_nodelet.h"
@@ -23,6 +24,7 @@ class FeatureNodelet : public StageNodelet<FeatureParams, iraf_vo::FeaturesConfi
   void onInit() override {
     ros::NodeHandle& nh = getNodeHandle();
     getPrivateNodeHandle().param("queue_size", queue_size_, 5);
+    getPrivateNodeHandle().param("resolution_rule", resolution_rule_, true);
     it_ = std::make_shared<image_transport::ImageTransport>(nh);
     startReconfigure();
     std::lock_guard<std::mutex> lock(connectMutex());
@@ -56,7 +58,21 @@ class FeatureNodelet : public StageNodelet<FeatureParams, iraf_vo::FeaturesConfi
     return 0;
   }
 
+  // n_features, cell_size and n_levels from the image size (pipeline_params.h), once per size, unless given as
+  // ~parameters; the values go to dynamic_reconfigure.
+  void applyResolutionRule(int width, int height) {
+    if (!resolution_rule_ || (width == rule_width_ && height == rule_height_) || width <= 0 || height <= 0) return;
+    rule_width_ = width;
+    rule_height_ = height;
+    FeatureParams p = params();
+    const std::string rule = applyFeatureResolutionRule(width, height, userSet(), &p);
+    replaceParams(p);
+    NODELET_INFO("features: resolution rule, %s (~parameters given are kept; ~resolution_rule false: off)",
+                 rule.c_str());
+  }
+
   void imageCb(const sensor_msgs::ImageConstPtr& msg) {
+    applyResolutionRule(static_cast<int>(msg->width), static_cast<int>(msg->height));
     const FeatureParams p = params();
     cv::Mat gray;
     std::string error;
@@ -113,6 +129,8 @@ class FeatureNodelet : public StageNodelet<FeatureParams, iraf_vo::FeaturesConfi
   std::mutex brightness_mutex_;
   std::deque<std::pair<ros::Time, int>> brightness_;  // (stamp, EnhanceStats.brightness) of recent frames
   int queue_size_ = 5;
+  bool resolution_rule_ = true;
+  int rule_width_ = 0, rule_height_ = 0;  // image size the rule was applied for
   FeatureExtractor extractor_;  // used from imageCb only (one callback at a time per subscriber)
 };
 

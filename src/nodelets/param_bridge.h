@@ -43,6 +43,24 @@ void configToParams(const ParamTable<S>& table, const Config& c, S* p, std::vect
   }
 }
 
+/// The reverse of configToParams: every table field the Config has is written into *c (for updateConfig).
+template <class S, class Config>
+void paramsToConfig(const ParamTable<S>& table, const S& p, Config* c) {
+  for (const auto& d : Config::__getParamDescriptions__()) {
+    const ParamEntry<S>* e = table.find(d->name);
+    if (!e) continue;
+    if (e->type == ParamType::kInt) {
+      if (const auto f = configField<int, Config>(d)) c->*f = p.*(e->int_field);
+    } else if (e->type == ParamType::kDouble) {
+      if (const auto f = configField<double, Config>(d)) c->*f = p.*(e->double_field);
+    } else if (e->type == ParamType::kBool) {
+      if (const auto f = configField<bool, Config>(d)) c->*f = p.*(e->bool_field);
+    } else if (const auto f = configField<std::string, Config>(d)) {
+      c->*f = table.get(p, *e);
+    }
+  }
+}
+
 /// Reads each table entry present as a private parameter (~name) into *p; a value of the wrong type is skipped with
 /// a message naming the key in *errors.
 template <class S>

@@ -13,6 +13,8 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <set>
+#include <string>
 
 #include "iraf_vo/pipeline/run_monitor.h"
 #include "param_bridge.h"
@@ -42,7 +44,10 @@ class StageNodelet : public nodelet::Nodelet {
  protected:
   // ---- reconfigurable parameters ----
   /// Starts the server; its first callback brings the startup values (private parameters / cfg defaults).
+  /// Before, it records which table fields the user gave as private parameters (userSet(): "section.name").
   void startReconfigure() {
+    for (const ParamEntry<Params>& e : table_.entries())
+      if (getPrivateNodeHandle().hasParam(e.name)) user_set_.insert(table_.section() + "." + e.name);
     reconfigure_ = std::make_shared<dynamic_reconfigure::Server<Config>>(reconfigure_mutex_, getPrivateNodeHandle());
     reconfigure_->setCallback([this](Config& c, uint32_t) { configure(c); });
   }
@@ -66,6 +71,16 @@ class StageNodelet : public nodelet::Nodelet {
     const std::string err = validate(p);
     if (!err.empty()) NODELET_ERROR("%s: %s; using the defaults", section(), err.c_str());
     setParams(err.empty() ? p : defaults);
+  }
+  /// Fields given as private parameters at startup ("section.name"): the resolution rule keeps them.
+  const std::set<std::string>& userSet() const { return user_set_; }
+  /// Replaces the parameters from the node itself (e.g. the resolution rule) and shows them in dynamic_reconfigure.
+  void replaceParams(const Params& p) {
+    setParams(p);
+    boost::recursive_mutex::scoped_lock lock(reconfigure_mutex_);
+    if (!reconfigure_ || !have_config_) return;
+    paramsToConfig(table_, p, &config_);
+    reconfigure_->updateConfig(config_);
   }
   /// Called after each accepted change with the new parameters and the Config (for nodelet-only fields).
   virtual void onParams(const Params& p, const Config& c) {}
@@ -111,6 +126,8 @@ class StageNodelet : public nodelet::Nodelet {
       return;
     }
     setParams(p);
+    config_ = c;  // under reconfigure_mutex_ (the server holds it during callbacks)
+    have_config_ = true;
     onParams(p, c);
   }
   const char* section() const { return table_.section().c_str(); }
@@ -118,6 +135,9 @@ class StageNodelet : public nodelet::Nodelet {
   const ParamTable<Params>& table_;
   boost::recursive_mutex reconfigure_mutex_;
   std::shared_ptr<dynamic_reconfigure::Server<Config>> reconfigure_;
+  Config config_;  // the last accepted Config (reconfigure_mutex_)
+  bool have_config_ = false;
+  std::set<std::string> user_set_;
   mutable std::mutex params_mutex_;
   Params params_;
   std::mutex connect_mutex_;

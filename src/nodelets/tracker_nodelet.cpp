@@ -16,6 +16,7 @@
 #include "iraf_vo/Features.h"
 #include "iraf_vo/TrackerConfig.h"
 #include "iraf_vo/pipeline/run_monitor.h"
+#include "iraf_vo/pipeline/pipeline_params.h"
 #include "iraf_vo/ros/camera_source.h"
 #include "iraf_vo/ros/feature_conversion.h"
 #include "iraf_vo/ros/tracking_conversion.h"
@@ -56,6 +57,7 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     pnh.param("status_period", status_period_, 10.0);
     pnh.param("use_rectified", info_opts.use_rectified, false);
     pnh.param<std::string>("camera_file", camera_file, "");
+    pnh.param("resolution_rule", resolution_rule_, true);
     path_publish_every_ = std::max(1, path_publish_every_);
 
     readStartupParams(TrackerParams(), [](const TrackerParams& p) { return validate(p); });  // ~name: YAML tracker:
@@ -82,6 +84,15 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
   }
 
   void startSession(const CameraModelPtr& cam, const std::string& why) {
+    if (resolution_rule_) {  // before mutex_: replaceParams takes the reconfigure lock, whose callback takes mutex_
+      TrackerParams p = params();
+      const std::string rule =
+          applyTrackerResolutionRule(cam->width(), cam->height(), cam->focal(), cam->modelName() == "kannala-brandt",
+                                     FeatureParams().scale_factor, userSet(), &p);
+      replaceParams(p);
+      NODELET_INFO("tracker: resolution rule, %s (~parameters given are kept; ~resolution_rule false: off)",
+                   rule.c_str());
+    }
     std::lock_guard<std::mutex> lock(mutex_);
     NODELET_INFO("tracker: %s, world frame '%s'", why.c_str(), world_frame_.c_str());
     session_ = std::make_unique<TrackingSession>(cam, params(), opts_);
@@ -218,6 +229,7 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
   std::shared_ptr<tf2_ros::TransformListener> tf_listener_;
   std::shared_ptr<diagnostic_updater::Updater> updater_;
   std::string world_frame_, camera_frame_, base_frame_;
+  bool resolution_rule_ = true;  // size- and focal-dependent fields from the camera (pipeline_params.h)
   bool publish_tf_ = true, base_from_file_ = false;
   int path_publish_every_ = 1;
   double status_period_ = 10.0;

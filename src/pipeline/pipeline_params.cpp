@@ -61,7 +61,7 @@ std::string validate(const PipelineParams& p) {
   return "";
 }
 
-ResolutionDefaults resolutionDefaults(int width, int height, double focal, double scale_factor) {
+ResolutionDefaults resolutionDefaults(int width, int height, double focal, double scale_factor, bool fisheye) {
   constexpr double kRefWidth = 752, kRefHeight = 480, kRefFocal = 458.654, kMinLevelSide = 80.0;
   const ResolutionDefaults ref;
   ResolutionDefaults d;
@@ -77,6 +77,11 @@ ResolutionDefaults resolutionDefaults(int width, int height, double focal, doubl
   d.search_radius_px = std::max(5.0, ref.search_radius_px * f);
   d.search_radius_wide_px = std::max(15.0, ref.search_radius_wide_px * f);
   d.search_radius_refine_px = std::max(2.0, ref.search_radius_refine_px * f);
+  // Fisheye: a new point's depth error ~ (pixel noise / focal) / parallax, so the same margin in pixels needs a
+  // parallax ~ 1 / focal (f 191: 2.4 deg); its scale had drifted 10-35 % over 300 frames at 1 deg. Narrow pinhole
+  // cameras keep 1 deg: points leave their view sooner, and 1 / focal starved the map of dark low-resolution
+  // sequences (240x180 slider, dark: 5.8 -> 13.4 mm; 376x240, dark: 635 -> 167 points, lost twice). README.
+  if (fisheye) d.min_triangulation_parallax_deg = std::round(100.0 * ref.min_triangulation_parallax_deg / f) / 100.0;
   const double n = d.n_features / static_cast<double>(ref.n_features);
   d.init_min_matches = static_cast<int>(std::lround(ref.init_min_matches * n));
   d.init_min_triangulated = static_cast<int>(std::lround(ref.init_min_triangulated * n));
@@ -84,26 +89,43 @@ ResolutionDefaults resolutionDefaults(int width, int height, double focal, doubl
   return d;
 }
 
-std::string applyResolutionRule(int width, int height, double focal, PipelineParams* p) {
-  const ResolutionDefaults d = resolutionDefaults(width, height, focal, p->features.scale_factor);
-  const auto unset = [p](const char* key) { return p->user_set.count(key) == 0; };
-  if (unset("features.n_features")) p->features.n_features = d.n_features;
-  if (unset("features.cell_size")) p->features.cell_size = d.cell_size;
-  if (unset("features.n_levels")) p->features.n_levels = d.n_levels;
-  if (unset("tracker.search_radius_px")) p->tracker.search_radius_px = d.search_radius_px;
-  if (unset("tracker.search_radius_wide_px")) p->tracker.search_radius_wide_px = d.search_radius_wide_px;
-  if (unset("tracker.search_radius_refine_px")) p->tracker.search_radius_refine_px = d.search_radius_refine_px;
-  if (unset("tracker.init_min_matches")) p->tracker.init_min_matches = d.init_min_matches;
-  if (unset("tracker.init_min_triangulated")) p->tracker.init_min_triangulated = d.init_min_triangulated;
-  if (unset("tracker.init_min_parallax_points")) p->tracker.init_min_parallax_points = d.init_min_parallax_points;
-  char buf[320];
-  std::snprintf(buf, sizeof(buf),
-                "%dx%d f %.0f: n_features %d, cell_size %d, n_levels %d, search radii %.1f / %.1f / %.1f px, "
-                "init min matches %d, triangulated %d, parallax points %d",
-                width, height, focal, p->features.n_features, p->features.cell_size, p->features.n_levels,
-                p->tracker.search_radius_px, p->tracker.search_radius_wide_px, p->tracker.search_radius_refine_px,
-                p->tracker.init_min_matches, p->tracker.init_min_triangulated, p->tracker.init_min_parallax_points);
+std::string applyFeatureResolutionRule(int width, int height, const std::set<std::string>& user_set, FeatureParams* p) {
+  // The feature fields depend on the image size only (any positive focal gives the same ones).
+  const ResolutionDefaults d = resolutionDefaults(width, height, 458.654, p->scale_factor);
+  const auto unset = [&user_set](const char* key) { return user_set.count(key) == 0; };
+  if (unset("features.n_features")) p->n_features = d.n_features;
+  if (unset("features.cell_size")) p->cell_size = d.cell_size;
+  if (unset("features.n_levels")) p->n_levels = d.n_levels;
+  char buf[160];
+  std::snprintf(buf, sizeof(buf), "%dx%d: n_features %d, cell_size %d, n_levels %d", width, height, p->n_features,
+                p->cell_size, p->n_levels);
   return buf;
+}
+
+std::string applyTrackerResolutionRule(int width, int height, double focal, bool fisheye, double scale_factor,
+                                       const std::set<std::string>& user_set, TrackerParams* p) {
+  const ResolutionDefaults d = resolutionDefaults(width, height, focal, scale_factor, fisheye);
+  const auto unset = [&user_set](const char* key) { return user_set.count(key) == 0; };
+  if (unset("tracker.search_radius_px")) p->search_radius_px = d.search_radius_px;
+  if (unset("tracker.search_radius_wide_px")) p->search_radius_wide_px = d.search_radius_wide_px;
+  if (unset("tracker.search_radius_refine_px")) p->search_radius_refine_px = d.search_radius_refine_px;
+  if (unset("tracker.init_min_matches")) p->init_min_matches = d.init_min_matches;
+  if (unset("tracker.init_min_triangulated")) p->init_min_triangulated = d.init_min_triangulated;
+  if (unset("tracker.init_min_parallax_points")) p->init_min_parallax_points = d.init_min_parallax_points;
+  if (unset("tracker.min_triangulation_parallax_deg")) p->min_triangulation_parallax_deg = d.min_triangulation_parallax_deg;
+  char buf[256];
+  std::snprintf(buf, sizeof(buf),
+                "f %.0f: search radii %.1f / %.1f / %.1f px, init min matches %d, triangulated %d, parallax points %d, "
+                "triangulation parallax %.2f deg",
+                focal, p->search_radius_px, p->search_radius_wide_px, p->search_radius_refine_px, p->init_min_matches,
+                p->init_min_triangulated, p->init_min_parallax_points, p->min_triangulation_parallax_deg);
+  return buf;
+}
+
+std::string applyResolutionRule(int width, int height, double focal, bool fisheye, PipelineParams* p) {
+  const std::string f = applyFeatureResolutionRule(width, height, p->user_set, &p->features);
+  return f + ", " + applyTrackerResolutionRule(width, height, focal, fisheye, p->features.scale_factor, p->user_set,
+                                               &p->tracker);
 }
 
 }  // namespace iraf_vo

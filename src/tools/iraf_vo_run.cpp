@@ -180,7 +180,8 @@ int main(int argc, char** argv) {
   const iraf_vo::CameraModelPtr cam = iraf_vo::loadCamera(a.camera_path, &err);
   if (!cam) return std::fprintf(stderr, "iraf_vo_run: --camera %s: %s\n", a.camera_path.c_str(), err.c_str()), 1;
   if (!a.no_resolution_rule) {
-    const std::string rule = iraf_vo::applyResolutionRule(cam->width(), cam->height(), cam->focal(), &params);
+    const std::string rule = iraf_vo::applyResolutionRule(cam->width(), cam->height(), cam->focal(),
+                                                           cam->modelName() == "kannala-brandt", &params);
     if (!a.quiet) std::fprintf(stderr, "iraf_vo_run: resolution rule: %s\n", rule.c_str());
     if (!(err = iraf_vo::validate(params)).empty()) return std::fprintf(stderr, "iraf_vo_run: %s\n", err.c_str()), 2;
   }

@@ -4,6 +4,7 @@
 // the frames itself (deterministic: the next frame goes out once the tracker reported the previous one).
 //   1. SyntheticDarkSequence: odometry + path published, TF world -> camera available, Sim(3) ATE of the path
 //      vs the simulator's ground truth below a bound, tracking recovered after the dark segment.
+//   1b. ResolutionRuleFromTheCamera: the size-dependent fields come from the image / calibration, ~params are kept.
 //   2. LiveTuning: dynamic_reconfigure of features (fixed FAST threshold) and enhance (mu_expected) while frames
 //      flow: Features / EnhanceStats reflect the change within a few frames.
 //   3. BadInput: wrong encoding, empty image, wrong size, duplicated and out-of-order stamps, a jump back in time,
@@ -35,9 +36,11 @@
 #include "iraf_vo/FeaturesConfig.h"
 #include "iraf_vo/TrackerConfig.h"
 #include "iraf_vo/TrackingStatus.h"
+#include "iraf_vo/camera/camera_loader.h"
 #include "iraf_vo/eval/trajectory_eval.h"
 #include "iraf_vo/io/image_folder.h"
 #include "iraf_vo/io/trajectory.h"
+#include "iraf_vo/pipeline/pipeline_params.h"
 
 namespace {
 
@@ -220,6 +223,28 @@ TEST_F(PipelineTest, SyntheticDarkSequence) {
 }
 
 // ---- 2: live tuning through dynamic_reconfigure --------------------------------------------------------------
+// ---- 1b: the resolution rule in the nodelets (after sequence 1: images and the calibration have arrived) --------
+TEST_F(PipelineTest, ResolutionRuleFromTheCamera) {
+  std::string error;
+  const iraf_vo::CameraModelPtr cam =
+      iraf_vo::loadCamera(std::string(IRAF_VO_SOURCE_DIR) + "/test/ros/sim_cam0_376x240.yaml", &error);
+  ASSERT_TRUE(cam) << error;
+  const iraf_vo::ResolutionDefaults d = iraf_vo::resolutionDefaults(cam->width(), cam->height(), cam->focal());
+  dynamic_reconfigure::Client<iraf_vo::FeaturesConfig> fclient("/features");
+  iraf_vo::FeaturesConfig fc;
+  ASSERT_TRUE(fclient.getCurrentConfiguration(fc, ros::Duration(5.0)));
+  EXPECT_EQ(fc.n_features, 600) << "given as ~n_features in the launch file: kept";
+  EXPECT_EQ(fc.n_levels, d.n_levels) << "from the 376x240 image";
+  EXPECT_EQ(fc.cell_size, d.cell_size);
+  EXPECT_NE(d.n_levels, iraf_vo::FeatureParams().n_levels) << "the test needs a size where the rule differs";
+  dynamic_reconfigure::Client<iraf_vo::TrackerConfig> tclient("/tracker");
+  iraf_vo::TrackerConfig tc;
+  ASSERT_TRUE(tclient.getCurrentConfiguration(tc, ros::Duration(5.0)));
+  EXPECT_NEAR(tc.search_radius_px, d.search_radius_px, 1e-6) << "from the calibration's focal length";
+  EXPECT_NEAR(tc.min_triangulation_parallax_deg, d.min_triangulation_parallax_deg, 1e-6);
+  EXPECT_NE(d.search_radius_px, iraf_vo::TrackerParams().search_radius_px);
+}
+
 TEST_F(PipelineTest, LiveTuning) {
   // Frames continue after sequence 1 (later stamps); normal-light frames of the start of the sequence.
   const ros::Time base = g_frames.back().stamp + ros::Duration(0.05);

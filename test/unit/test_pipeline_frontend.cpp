@@ -185,12 +185,13 @@ TEST(PipelineParams, ResolutionRuleValuesAndUserSettings) {
     int n_features, cell_size, n_levels;
     double radius, wide, refine;
     int min_matches, min_triangulated, parallax_points;
+    double triangulation_parallax_deg;
   };
   const Case cases[] = {
-      {752, 480, 458.654, 1000, 35, 8, 15.0, 40.0, 4.0, 100, 60, 50},  // EuRoC: the struct defaults
-      {1241, 376, 718.856, 1150, 40, 8, 23.51, 62.69, 6.27, 115, 69, 57},
-      {512, 512, 190.978, 850, 30, 8, 6.25, 16.66, 2.0, 85, 51, 43},
-      {240, 180, 200.0, 500, 30, 5, 6.54, 17.44, 2.0, 50, 30, 25},
+      {752, 480, 458.654, 1000, 35, 8, 15.0, 40.0, 4.0, 100, 60, 50, 1.0},  // EuRoC: the struct defaults
+      {1241, 376, 718.856, 1150, 40, 8, 23.51, 62.69, 6.27, 115, 69, 57, 1.0},
+      {512, 512, 190.978, 850, 30, 8, 6.25, 16.66, 2.0, 85, 51, 43, 1.0},
+      {240, 180, 200.0, 500, 30, 5, 6.54, 17.44, 2.0, 50, 30, 25, 1.0},
   };
   for (const Case& c : cases) {
     const ResolutionDefaults d = resolutionDefaults(c.w, c.h, c.f);
@@ -204,8 +205,10 @@ TEST(PipelineParams, ResolutionRuleValuesAndUserSettings) {
     EXPECT_EQ(d.init_min_matches, c.min_matches);
     EXPECT_EQ(d.init_min_triangulated, c.min_triangulated);
     EXPECT_EQ(d.init_min_parallax_points, c.parallax_points);
+    EXPECT_NEAR(d.min_triangulation_parallax_deg, c.triangulation_parallax_deg, 0.001);
     PipelineParams p;
-    applyResolutionRule(c.w, c.h, c.f, &p);
+    applyResolutionRule(c.w, c.h, c.f, false, &p);
+    EXPECT_NEAR(p.tracker.min_triangulation_parallax_deg, c.triangulation_parallax_deg, 0.001);
     EXPECT_EQ(p.features.n_features, c.n_features);
     EXPECT_EQ(p.features.cell_size, c.cell_size);
     EXPECT_EQ(validate(p), "");
@@ -219,6 +222,13 @@ TEST(PipelineParams, ResolutionRuleValuesAndUserSettings) {
   EXPECT_EQ(euroc.init_min_matches, TrackerParams().init_min_matches);
   EXPECT_EQ(euroc.init_min_triangulated, TrackerParams().init_min_triangulated);
   EXPECT_EQ(euroc.init_min_parallax_points, TrackerParams().init_min_parallax_points);
+  EXPECT_EQ(euroc.min_triangulation_parallax_deg, TrackerParams().min_triangulation_parallax_deg);  // exactly
+  // Fisheye: the triangulation parallax follows 1 / focal (TUM-VI f 191: 2.4 deg; a fisheye at EuRoC's focal: 1 deg).
+  EXPECT_EQ(resolutionDefaults(512, 512, 190.978, 1.2, true).min_triangulation_parallax_deg, 2.4);
+  EXPECT_EQ(resolutionDefaults(752, 480, 0.5 * (458.654 + 457.296), 1.2, true).min_triangulation_parallax_deg, 1.0);
+  PipelineParams fisheye;
+  applyResolutionRule(512, 512, 190.978, true, &fisheye);
+  EXPECT_EQ(fisheye.tracker.min_triangulation_parallax_deg, 2.4);
 
   PipelineParams p;
   std::string err;
@@ -228,7 +238,7 @@ TEST(PipelineParams, ResolutionRuleValuesAndUserSettings) {
   const std::string path = tmpRoot() + "rule.yaml";
   std::ofstream(path) << "tracker: {search_radius_px: 9}\n";
   ASSERT_TRUE(loadPipelineConfig(path, &p, &err)) << err;
-  applyResolutionRule(240, 180, 200.0, &p);
+  applyResolutionRule(240, 180, 200.0, false, &p);
   EXPECT_EQ(p.features.n_features, 700);          // --set
   EXPECT_DOUBLE_EQ(p.tracker.search_radius_px, 9.0);  // config file
   EXPECT_EQ(p.features.n_levels, 5);              // rule

@@ -31,22 +31,32 @@ struct PipelineParams {
 ///   tracker.search_radius_px / _wide_px / _refine_px = 15 / 40 / 4 px * focal / 458.654
 ///                          (prediction errors are angles: pixels scale with the focal length), at least 5 / 15 / 2
 ///   tracker.init_min_matches / init_min_triangulated / init_min_parallax_points = 100 / 60 / 50 * n_features / 1000
-/// Pixel-noise thresholds (init_threshold_px, pnp_threshold_px) and angles (parallax) do not depend on the camera.
-/// n_features, cell_size, n_levels, search radii, init matches / triangulated / parallax points:
-/// 752x480 f 458 (EuRoC): 1000, 35, 8, 15 / 40 / 4, 100 / 60 / 50 (= the struct defaults)
-/// 1241x376 f 719 (KITTI): 1150, 40, 8, 23.5 / 62.7 / 6.3, 115 / 69 / 57
-/// 512x512 f 191 (TUM-VI fisheye): 850, 30, 8, 6.2 / 16.7 / 2, 85 / 51 / 43
-/// 240x180 f 200 (DAVIS240): 500, 30, 5, 6.5 / 17.4 / 2, 50 / 30 / 25
+///   tracker.min_triangulation_parallax_deg = fisheye: 1 deg * 458.654 / focal, to 0.01 deg (a new point's depth
+///                          error is its bearing noise, pixels / focal, over the parallax); pinhole: 1 deg (README)
+/// Pixel-noise thresholds (init_threshold_px, pnp_threshold_px) and the initialization's parallax test do not depend
+/// on the camera (scaling the latter too made the fisheye initialize later, 97.3 % tracked, and was not more accurate).
+/// n_features, cell_size, n_levels, search radii, init matches / triangulated / parallax points, triangulation parallax:
+/// 752x480 f 458 (EuRoC): 1000, 35, 8, 15 / 40 / 4, 100 / 60 / 50, 1 deg (= the struct defaults)
+/// 1241x376 f 719 (KITTI): 1150, 40, 8, 23.5 / 62.7 / 6.3, 115 / 69 / 57, 1 deg
+/// 512x512 f 191 (TUM-VI fisheye): 850, 30, 8, 6.2 / 16.7 / 2, 85 / 51 / 43, 2.4 deg
+/// 240x180 f 200 (DAVIS240): 500, 30, 5, 6.5 / 17.4 / 2, 50 / 30 / 25, 1 deg
 struct ResolutionDefaults {
   int n_features = 1000, cell_size = 35, n_levels = 8;
   double search_radius_px = 15.0, search_radius_wide_px = 40.0, search_radius_refine_px = 4.0;
   int init_min_matches = 100, init_min_triangulated = 60, init_min_parallax_points = 50;
+  double min_triangulation_parallax_deg = 1.0;
 };
-ResolutionDefaults resolutionDefaults(int width, int height, double focal, double scale_factor = 1.2);
+/// fisheye: the camera is a fisheye (Kannala-Brandt), whose triangulation parallax follows its focal length.
+ResolutionDefaults resolutionDefaults(int width, int height, double focal, double scale_factor = 1.2,
+                                      bool fisheye = false);
 
 /// Sets the fields of the rule that are not in p->user_set to resolutionDefaults(width, height, focal,
 /// p->features.scale_factor). Returns a one-line summary of the values used (for logs).
-std::string applyResolutionRule(int width, int height, double focal, PipelineParams* p);
+std::string applyResolutionRule(int width, int height, double focal, bool fisheye, PipelineParams* p);
+/// The rule for one stage (what the nodelets use): fields named in user_set ("features.n_features", ...) are kept.
+std::string applyFeatureResolutionRule(int width, int height, const std::set<std::string>& user_set, FeatureParams* p);
+std::string applyTrackerResolutionRule(int width, int height, double focal, bool fisheye, double scale_factor,
+                                       const std::set<std::string>& user_set, TrackerParams* p);
 
 /// Reads the optional sections of a YAML file (other top-level keys are ignored). false + *error naming the file,
 /// the section and the key; *p is unchanged for a section that fails. The keys read go to p->user_set.
