@@ -22,6 +22,7 @@
 #   handheld_fast          room, up to 3 deg/frame with motion blur, EuRoC pinhole 752x480, 20 Hz (300 frames)
 #   handheld_fast_fisheye  the same with the TUM-VI Kannala-Brandt 512x512 camera
 #   static_start           room loop after standing still for 2 s (300 frames, the first 40 static)
+#   static_start_fisheye   the same with the TUM-VI Kannala-Brandt 512x512 camera
 #   fisheye                the --presets (clean dark ...) with the fisheye camera (--sim-frames)
 #   -> scenarios.md / scenarios.csv (tracked % after the first 5 frames of motion, first initialized frame,
 #      ATE RMSE and ATE in % of the ground-truth path; pass = >= 95 % and <= 1 %), appended to report.md.
@@ -45,7 +46,7 @@ euroc_profiles="dark mixed"
 do_sim=1
 do_euroc=1
 threaded=0
-scenarios="drive slider handheld_fast handheld_fast_fisheye static_start fisheye"
+scenarios="drive slider handheld_fast handheld_fast_fisheye static_start static_start_fisheye fisheye"
 scenario_modes="iraf"
 scenario_frames=0
 scenario_preset=clean
@@ -88,7 +89,7 @@ for m in $modes $scenario_modes; do
   case "$m" in baseline|he|clahe|enhance|adaptive|culling|iraf) ;; *) die "--modes: unknown mode '$m'" ;; esac
 done
 for sc in $scenarios; do
-  case "$sc" in drive|slider|handheld_fast|handheld_fast_fisheye|static_start|fisheye) ;;
+  case "$sc" in drive|slider|handheld_fast|handheld_fast_fisheye|static_start|static_start_fisheye|fisheye) ;;
     *) die "--scenarios: unknown scenario '$sc'" ;; esac
 done
 [[ "$scenario_frames" =~ ^[0-9]+$ && ( "$scenario_frames" == 0 || "$scenario_frames" -ge 30 ) ]] \
@@ -180,6 +181,9 @@ for sc in $scenarios; do
     static_start)
       ssf=$scenario_frames && [[ $ssf == 0 ]] && ssf=300
       simulate "sim_$sc$sp_tag" --motion room --static-start 2 --frames "$ssf" ;;
+    static_start_fisheye)
+      ssf=$scenario_frames && [[ $ssf == 0 ]] && ssf=300
+      simulate "sim_$sc$sp_tag" --motion room --static-start 2 --camera fisheye --frames "$ssf" ;;
     fisheye)
       for p in $presets; do
         [[ "$p" == clean || "$p" == dark || "$p" == flicker || "$p" == mixed || "$p" == overexposed ]] || continue
