@@ -5,6 +5,11 @@
 # Speed targets live here, not in tests: the script prints the measured values next to the targets.
 #
 #   scripts/bench.sh [--dataset ASL_DIR] [--frames N] [--frontend-frames N] [--modes "iraf baseline"] [--threaded|--sync]
+#                    [--graph]
+#
+# --graph: also the nodelet graph (launch/dataset.launch, one manager, default parameters, the dataset's sensor.yaml)
+# on a bag of the dataset played at its real rate: median / 95 % latency from each image to its odometry and the
+# manager's peak RSS (scripts/graph_latency.py).
 #
 # Default dataset: ../shared/data/euroc_mh01_600 beside the checkout (frames 0-305, the moving part). Needs a build
 # (scripts/setup.sh). Run it on an idle machine: wall-clock numbers (fps) depend on the load, CPU ms much less.
@@ -17,15 +22,17 @@ frames=306
 fe_frames=200
 modes="iraf baseline"
 mapping=""
+graph=0
 while [[ $# -gt 0 ]]; do
   case "$1" in
-    -h|--help) sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     --dataset) dataset="$2"; shift 2 ;;
     --frames) frames="$2"; shift 2 ;;
     --frontend-frames) fe_frames="$2"; shift 2 ;;
     --modes) modes="$2"; shift 2 ;;
     --threaded) mapping=""; shift ;;
     --sync) mapping="--set tracker.mapping_thread=false"; shift ;;
+    --graph) graph=1; shift ;;
     *) echo "bench.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -58,4 +65,19 @@ if ba:
 print("summary: peak RSS %.1f MiB" % (int(rss.group(1)) / 1024.0 if rss else float("nan")))
 PY
 done
+if [[ $graph == 1 ]]; then
+  echo "== nodelet graph on a bag of the dataset at its real rate: image -> odometry latency, peak RSS"
+  set +u  # the ROS setup scripts read unset variables
+  # shellcheck disable=SC1091
+  source "${IRAF_VO_BUILD_DIR:-$repo/build}/devel/setup.bash"
+  set -u
+  bag="$out/dataset.bag"
+  "$bin/iraf_vo_asl_to_bag" "$dataset" "$bag" > "$out/bag.log" 2>&1 || { cat "$out/bag.log"; exit 1; }
+  roslaunch iraf_vo dataset.launch bag:="$bag" camera_file:="$dataset/mav0/cam0/sensor.yaml" delay:=5 \
+    > "$out/graph.log" 2>&1 &
+  launch_pid=$!
+  /usr/bin/python3 "$here/graph_latency.py" --idle 5 || echo "bench.sh: graph latency not measured (see $out/graph.log)"
+  kill -INT "$launch_pid" 2>/dev/null || true
+  wait "$launch_pid" 2>/dev/null || true
+fi
 echo "== outputs in $out"
