@@ -16,6 +16,8 @@ namespace iraf_vo {
 // corner at any t' < t with score >= t, and non-max suppression only compares corners' scores.
 // T_s is chosen per strip (cost model below) so a few low-threshold cells do not make FAST scan the
 // whole strip at a low threshold; runs of cells below T_s get their own call.
+// Every FAST call here is detectFast9 at one threshold (fastAt), which is cv::FAST's result bit for bit;
+// T_s keeps the cost model fitted to cv::FAST because T_s decides the run ROIs and so the output.
 // Empty cells are retried at retry_th (ORB-SLAM's minThFAST retry). Each pixel belongs to one cell,
 // so unlike ORB-SLAM's overlapping ROIs no corner is reported twice.
 // That is the reference path (FeatureParams::fast_path = false). The fast path (default) scans each strip
@@ -47,6 +49,13 @@ void CellFastDetector::detect(const cv::Mat& img, const CellGrid& g, const std::
     }
     detectCellRow(img, g, i, th_retry, one_pass, candidates, st);
   }
+}
+
+void CellFastDetector::fastAt(const cv::Mat& roi, int t, std::vector<cv::KeyPoint>* kps) {
+  // detectFast9 with every column at t gives exactly cv::FAST(roi, kps, t, true) (same corners, scores,
+  // order; test Fast9.EqualsCvFastForOneThreshold), ~2x faster on EuRoC strips (issue 12).
+  col_th_.assign(roi.cols, static_cast<uint8_t>(std::min(t, 255)));
+  detectFast9(roi, col_th_.data(), kps, &fast9_buffers_);
 }
 
 int CellFastDetector::stripThreshold(const std::vector<int>& sorted_th, int n_valid) {
@@ -111,7 +120,7 @@ void CellFastDetector::scanStripOnePass(const cv::Mat& strip, const CellGrid& g,
 void CellFastDetector::scanStripAndRuns(const cv::Mat& img, const cv::Mat& strip, const CellGrid& g, int ini_y,
                                         int max_y, int t_strip, std::vector<cv::KeyPoint>* candidates) {
   // Strip scan: detection area x in [min_border + 3, max_x - 3), the union of the cells' areas.
-  cv::FAST(strip, strip_kps_, t_strip, true);
+  fastAt(strip, t_strip, &strip_kps_);
   for (cv::KeyPoint& kp : strip_kps_) {
     kp.pt.x += g.min_border;
     kp.pt.y += ini_y;
@@ -132,7 +141,7 @@ void CellFastDetector::scanStripAndRuns(const cv::Mat& img, const cv::Mat& strip
     while (j1 + 1 < g.n_cols && cell_th_[j1 + 1] >= 0 && cell_th_[j1 + 1] < t_strip) t_run = std::min(t_run, cell_th_[++j1]);
     const int ini_x = g.x0(j);
     const int max_x = std::min(g.x0(j1 + 1) + 6, g.max_x);
-    cv::FAST(img(cv::Rect(ini_x, ini_y, max_x - ini_x, max_y - ini_y)), cell_kps_, t_run, true);
+    fastAt(img(cv::Rect(ini_x, ini_y, max_x - ini_x, max_y - ini_y)), t_run, &cell_kps_);
     for (cv::KeyPoint& kp : cell_kps_) {
       kp.pt.x += ini_x;
       kp.pt.y += ini_y;
@@ -165,12 +174,7 @@ void CellFastDetector::retryEmptyCells(const cv::Mat& img, const CellGrid& g, in
     const int ini_x = g.x0(j);
     const int max_x = std::min(ini_x + g.w_cell + 6, g.max_x);
     const cv::Mat cell = img(cv::Rect(ini_x, ini_y, max_x - ini_x, max_y - ini_y));
-    if (t_strip > 255) {  // fast path: detectFast9 at one threshold = cv::FAST, without its per-call setup
-      col_th_.assign(cell.cols, static_cast<uint8_t>(std::min(th_retry, 255)));
-      detectFast9(cell, col_th_.data(), &cell_kps_, &fast9_buffers_);
-    } else {
-      cv::FAST(cell, cell_kps_, th_retry, true);
-    }
+    fastAt(cell, th_retry, &cell_kps_);
     for (cv::KeyPoint& kp : cell_kps_) {
       kp.pt.x += ini_x;
       kp.pt.y += ini_y;

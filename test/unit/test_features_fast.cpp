@@ -81,6 +81,33 @@ TEST(Fast9, EqualsCvFastForOneThreshold) {
   }
 }
 
+TEST(Fast9, EqualsCvFastOnCellSizedRoisOfRandomImages) {
+  // The reference path calls detectFast9 with one threshold where it used cv::FAST: strips (full width,
+  // 41 rows) and runs / cells (41 + k * 35 columns) of random smoothed-noise images, every threshold.
+  Fast9Buffers buf;
+  cv::RNG rng(12);
+  for (int trial = 0; trial < 6; ++trial) {
+    cv::Mat img(120, 200 + trial * 7, CV_8U);
+    rng.fill(img, cv::RNG::UNIFORM, 0, 256);
+    cv::GaussianBlur(img, img, cv::Size(), 0.6 + 0.3 * trial);
+    for (const cv::Rect& r : {cv::Rect(16, 16, img.cols - 32, 41), cv::Rect(51, 30, 41, 41), cv::Rect(3, 50, 111, 41)}) {
+      for (int t = 1; t <= 64; t += 3) {
+        std::vector<cv::KeyPoint> ref, ours;
+        cv::FAST(img(r), ref, t, true);
+        const std::vector<uint8_t> th(r.width, static_cast<uint8_t>(t));
+        detectFast9(img(r), th.data(), &ours, &buf);
+        ASSERT_EQ(ours.size(), ref.size()) << "trial " << trial << " t = " << t;
+        for (size_t i = 0; i < ref.size(); ++i) {
+          ASSERT_EQ(ours[i].pt, ref[i].pt) << "trial " << trial << " t = " << t;
+          ASSERT_EQ(ours[i].response, ref[i].response) << "trial " << trial << " t = " << t;
+          ASSERT_EQ(ours[i].size, ref[i].size);
+          ASSERT_EQ(ours[i].angle, ref[i].angle);
+        }
+      }
+    }
+  }
+}
+
 TEST(Fast9, PerColumnThresholdIsCvFastOfEachColumnRange) {
   // Left half at 8, right half at 30: away from the border column (where non-max suppression looks at the
   // other half's corners) the corners are cv::FAST's at that half's threshold.

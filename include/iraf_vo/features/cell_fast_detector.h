@@ -36,6 +36,8 @@ class CellFastDetector {
   /// t_strip <= retry_th.
   void retryEmptyCells(const cv::Mat& level, const CellGrid& grid, int ini_y, int max_y, int th_retry, int t_strip,
                        std::vector<cv::KeyPoint>* candidates, FeatureStats* st);
+  /// cv::FAST(roi, *kps, t, true), computed by detectFast9 with one threshold for every column.
+  void fastAt(const cv::Mat& roi, int t, std::vector<cv::KeyPoint>* kps);
   /// The strip threshold T_s minimising the cost model of cv::FAST (see the .cpp) over the sorted cell
   /// thresholds of a row.
   static int stripThreshold(const std::vector<int>& sorted_th, int n_valid);
