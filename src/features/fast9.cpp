@@ -67,7 +67,8 @@ cv::v_uint8x16 scoreLanes(const uint8_t* p, const int* off, const cv::v_uint8x16
 
 }  // namespace
 
-void detectFast9(const cv::Mat& img, const uint8_t* th, std::vector<cv::KeyPoint>* keypoints, Fast9Buffers* b) {
+void detectFast9(const cv::Mat& img, const uint8_t* th, std::vector<cv::KeyPoint>* keypoints, Fast9Buffers* b,
+                 const uint8_t* walls) {
   CV_Assert(img.type() == CV_8UC1);
   keypoints->clear();
   const int rows = img.rows, cols = img.cols;
@@ -146,8 +147,10 @@ void detectFast9(const cv::Mat& img, const uint8_t* th, std::vector<cv::KeyPoint
     for (int k = 0; k < n_corners[(i - 1) % 3]; ++k) {
       const int j = ppos[k];
       const uint8_t s = prev[j];
-      if (s > prev[j + 1] && s > prev[j - 1] && s > pprev[j - 1] && s > pprev[j] && s > pprev[j + 1] &&
-          s > curr[j - 1] && s > curr[j] && s > curr[j + 1])
+      if (!(s > pprev[j] && s > curr[j])) continue;
+      const int w = walls ? walls[j] : 0;
+      if (((w & kWallLeft) || (s > prev[j - 1] && s > pprev[j - 1] && s > curr[j - 1])) &&
+          ((w & kWallRight) || (s > prev[j + 1] && s > pprev[j + 1] && s > curr[j + 1])))
         keypoints->emplace_back(static_cast<float>(j), static_cast<float>(i - 1), 7.f, -1.f, static_cast<float>(s));
     }
   }
