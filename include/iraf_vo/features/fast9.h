@@ -28,4 +28,8 @@ struct Fast9Buffers {
 void detectFast9(const cv::Mat& img, const uint8_t* col_threshold, std::vector<cv::KeyPoint>* keypoints,
                  Fast9Buffers* buffers, const uint8_t* walls = nullptr);
 
+/// detectFast9's row kernel: AVX2 (32 lanes, where the CPU has it; the default) or the baseline SIMD build
+/// (16 lanes). Both give the same corners and scores; for tests. Returns whether AVX2 is now in use.
+bool fast9UseAvx2(bool allowed);
+
 }  // namespace iraf_vo
