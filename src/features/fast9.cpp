@@ -13,6 +13,7 @@ namespace fast9_baseline {
 #if defined(IRAF_VO_FAST9_AVX2)
 namespace fast9_avx2 {
 int rowCorners(const uint8_t* row, const int* off, const uint8_t* th, int cols, uint8_t* curr, int* pos);
+int rowMaxima(const uint8_t* a, const uint8_t* b, const uint8_t* c, const uint8_t* walls, int cols, int* out);
 }  // namespace fast9_avx2
 #endif
 
@@ -22,25 +23,28 @@ constexpr int kCircle[16][2] = {{0, 3},  {1, 3},   {2, 2},   {3, 1},   {3, 0},  
                                 {0, -3}, {-1, -3}, {-2, -2}, {-3, -1}, {-3, 0}, {-3, 1}, {-2, 2}, {-1, 3}};
 constexpr int kRingSize = 25;  // 16 + 9: every arc of 9 is a plain window
 
-using RowCornersFn = int (*)(const uint8_t*, const int*, const uint8_t*, int, uint8_t*, int*);
+struct RowKernels {
+  int (*corners)(const uint8_t*, const int*, const uint8_t*, int, uint8_t*, int*);
+  int (*maxima)(const uint8_t*, const uint8_t*, const uint8_t*, const uint8_t*, int, int*);
+};
 
-// The row kernel for this CPU: AVX2 (32 lanes) where available, else the baseline build (16 lanes).
+// The row kernels for this CPU: AVX2 (32 lanes) where available, else the baseline build (16 lanes).
 // Same corners and scores either way.
-RowCornersFn pickRowCorners(bool avx2_allowed) {
+RowKernels pickRowKernels(bool avx2_allowed) {
 #if defined(IRAF_VO_FAST9_AVX2)
-  if (avx2_allowed && __builtin_cpu_supports("avx2")) return fast9_avx2::rowCorners;
+  if (avx2_allowed && __builtin_cpu_supports("avx2")) return {fast9_avx2::rowCorners, fast9_avx2::rowMaxima};
 #endif
   (void)avx2_allowed;
-  return fast9_baseline::rowCorners;
+  return {fast9_baseline::rowCorners, fast9_baseline::rowMaxima};
 }
 
-RowCornersFn g_row_corners = pickRowCorners(true);
+RowKernels g_kernels = pickRowKernels(true);
 
 }  // namespace
 
 bool fast9UseAvx2(bool allowed) {
-  g_row_corners = pickRowCorners(allowed);
-  return g_row_corners != fast9_baseline::rowCorners;
+  g_kernels = pickRowKernels(allowed);
+  return g_kernels.corners != fast9_baseline::rowCorners;
 }
 
 void detectFast9(const cv::Mat& img, const uint8_t* th, std::vector<cv::KeyPoint>* keypoints, Fast9Buffers* b,
@@ -49,7 +53,7 @@ void detectFast9(const cv::Mat& img, const uint8_t* th, std::vector<cv::KeyPoint
   keypoints->clear();
   const int rows = img.rows, cols = img.cols;
   if (rows < 7 || cols < 7) return;
-  const RowCornersFn row_corners = g_row_corners;
+  const RowKernels kernels = g_kernels;
   int off[kRingSize];
   const int step = static_cast<int>(img.step1());
   for (int k = 0; k < 16; ++k) off[k] = kCircle[k][0] + kCircle[k][1] * step;
@@ -64,22 +68,17 @@ void detectFast9(const cv::Mat& img, const uint8_t* th, std::vector<cv::KeyPoint
     int* pos = b->corners[i % 3].data();
     std::memset(curr, 0, cols);
     int nc = 0;
-    if (i < rows - 3) nc = row_corners(img.ptr<uint8_t>(i), off, th, cols, curr, pos);
+    if (i < rows - 3) nc = kernels.corners(img.ptr<uint8_t>(i), off, th, cols, curr, pos);
     n_corners[i % 3] = nc;
-    if (i == 3) continue;
+    if (i == 3 || n_corners[(i - 1) % 3] == 0) continue;
     // Non-max suppression of row i - 1 against rows i - 2 .. i (non-corners have score 0).
     const uint8_t* prev = b->score[(i - 1) % 3].data();
     const uint8_t* pprev = b->score[(i - 2) % 3].data();
-    const int* ppos = b->corners[(i - 1) % 3].data();
-    for (int k = 0; k < n_corners[(i - 1) % 3]; ++k) {
-      const int j = ppos[k];
-      const uint8_t s = prev[j];
-      if (!(s > pprev[j] && s > curr[j])) continue;
-      const int w = walls ? walls[j] : 0;
-      if (((w & kWallLeft) || (s > prev[j - 1] && s > pprev[j - 1] && s > curr[j - 1])) &&
-          ((w & kWallRight) || (s > prev[j + 1] && s > pprev[j + 1] && s > curr[j + 1])))
-        keypoints->emplace_back(static_cast<float>(j), static_cast<float>(i - 1), 7.f, -1.f, static_cast<float>(s));
-    }
+    int* kept = b->corners[(i - 1) % 3].data();  // its corner list is no longer needed
+    const int n_kept = kernels.maxima(pprev, prev, curr, walls, cols, kept);
+    for (int k = 0; k < n_kept; ++k)
+      keypoints->emplace_back(static_cast<float>(kept[k]), static_cast<float>(i - 1), 7.f, -1.f,
+                              static_cast<float>(prev[kept[k]]));
   }
 }
 

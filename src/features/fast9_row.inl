@@ -128,9 +128,65 @@ void cornerBlocks(const uint8_t* row, const int* off, const uint8_t* th, int* j,
     *j = end;
   }
 }
+
+// 3x3 non-max suppression of the lanes of columns j0 .. j0 + nlanes - 1 of score row b (a above, c below;
+// non-corners score 0): kept iff the score is > every neighbour's, neighbours across a wall ignored.
+template <class V>
+void nmsBlock(const uint8_t* a, const uint8_t* b, const uint8_t* c, const uint8_t* walls, int j0, int from, int* out,
+              int* n) {
+  const V s = Lanes<V>::load(b + j0);
+  V left = (s > Lanes<V>::load(a + j0 - 1)) & (s > Lanes<V>::load(b + j0 - 1)) & (s > Lanes<V>::load(c + j0 - 1));
+  V right = (s > Lanes<V>::load(a + j0 + 1)) & (s > Lanes<V>::load(b + j0 + 1)) & (s > Lanes<V>::load(c + j0 + 1));
+  if (walls) {
+    const V w = Lanes<V>::load(walls + j0), one = Lanes<V>::all(1), two = Lanes<V>::all(2);
+    left = left | ((w & one) == one);
+    right = right | ((w & two) == two);
+  }
+  const V keep = (s > Lanes<V>::load(a + j0)) & (s > Lanes<V>::load(c + j0)) & left & right;
+  uint32_t mask = static_cast<uint32_t>(cv::v_signmask(keep)) & ~((1u << (from - j0)) - 1u);
+  while (mask) {
+    out[(*n)++] = j0 + __builtin_ctz(mask);
+    mask &= mask - 1;
+  }
+}
+
+template <class V>
+void nmsBlocks(const uint8_t* a, const uint8_t* b, const uint8_t* c, const uint8_t* walls, int* j, int end, int* out,
+               int* n) {
+  constexpr int W = V::nlanes;
+  if (end - 3 < W) return;
+  for (; *j + W <= end; *j += W) nmsBlock<V>(a, b, c, walls, *j, *j, out, n);
+  if (*j < end) {
+    nmsBlock<V>(a, b, c, walls, end - W, *j, out, n);
+    *j = end;
+  }
+}
 #endif
 
 }  // namespace
+
+/// Non-max suppression of score row b (a: the row above, c: below; 0 = no corner) over columns [3, cols - 3):
+/// the columns whose score is > that of each 8-neighbour (walls as in detectFast9; may be null), ascending,
+/// into out; returns the count.
+int rowMaxima(const uint8_t* a, const uint8_t* b, const uint8_t* c, const uint8_t* walls, int cols, int* out) {
+  int n = 0, j = 3;
+  const int end = cols - 3;
+#if CV_SIMD256
+  nmsBlocks<cv::v_uint8x32>(a, b, c, walls, &j, end, out, &n);
+#endif
+#if CV_SIMD128
+  nmsBlocks<cv::v_uint8x16>(a, b, c, walls, &j, end, out, &n);
+#endif
+  for (; j < end; ++j) {
+    const uint8_t s = b[j];
+    if (!(s > a[j] && s > c[j])) continue;
+    const int w = walls ? walls[j] : 0;
+    if (((w & 1) || (s > a[j - 1] && s > b[j - 1] && s > c[j - 1])) &&
+        ((w & 2) || (s > a[j + 1] && s > b[j + 1] && s > c[j + 1])))
+      out[n++] = j;
+  }
+  return n;
+}
 
 /// FAST-9 corners of columns [3, cols - 3) of `row` (off: the 25 circle offsets, th: per-column thresholds):
 /// appends their columns to pos (ascending) and writes their scores to curr; returns the count.
