@@ -1,7 +1,10 @@
 // ORB-SLAM's building blocks of the feature stage: per-level quota, quad-tree distribution,
 // intensity-centroid orientation (declared in feature_extractor.h). ROS-free.
+#include <opencv2/core/hal/intrin.hpp>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <queue>
 
 #include "iraf_vo/features/feature_extractor.h"
@@ -117,9 +120,9 @@ std::vector<int> makeUmax() {
   return umax;
 }
 
-float icAngle(const cv::Mat& img, cv::Point2f pt, const std::vector<int>& umax) {
-  const uint8_t* center = img.ptr<uint8_t>(cvRound(pt.y)) + cvRound(pt.x);
-  const int step = static_cast<int>(img.step1());
+// The moments m10 = sum u I(u, v), m01 = sum v I(u, v) over the disc |u| <= umax[|v|] (integers, so any
+// summation order gives the same values and the same angle).
+void icMomentsScalar(const uint8_t* center, int step, const std::vector<int>& umax, int* m01_out, int* m10_out) {
   int m01 = 0, m10 = 0;
   for (int u = -kHalfPatch; u <= kHalfPatch; ++u) m10 += u * center[u];
   for (int v = 1; v <= kHalfPatch; ++v) {
@@ -132,8 +135,49 @@ float icAngle(const cv::Mat& img, cv::Point2f pt, const std::vector<int>& umax) 
     }
     m01 += v * v_sum;
   }
-  return cv::fastAtan2(static_cast<float>(m01), static_cast<float>(m10));  // degrees [0, 360)
+  *m01_out = m01;
+  *m10_out = m10;
 }
+
+#if CV_SIMD128
+// The same moments with int16 dot products: per row pair +-v, lanes u = -15..0 (block A) and 0..15 (block B,
+// u = 0 counted in A only), weights u (for m10) and v (for m01) zeroed outside the disc. Reads only the disc's
+// bounding box.
+struct IcWeights {
+  // [v][block][half]: weights of the 8 int16 lanes of each half of a 16-pixel block.
+  int16_t wu[kHalfPatch + 1][2][2][8];
+  int16_t wv[kHalfPatch + 1][2][2][8];
+  explicit IcWeights(const std::vector<int>& umax) {
+    for (int v = 0; v <= kHalfPatch; ++v)
+      for (int blk = 0; blk < 2; ++blk)
+        for (int lane = 0; lane < 16; ++lane) {
+          const int u = blk == 0 ? lane - kHalfPatch : lane;
+          const bool in = std::abs(u) <= umax[v] && !(blk == 1 && u == 0);
+          wu[v][blk][lane / 8][lane % 8] = static_cast<int16_t>(in ? u : 0);
+          wv[v][blk][lane / 8][lane % 8] = static_cast<int16_t>(in ? v : 0);
+        }
+  }
+};
+
+void icMomentsSimd(const uint8_t* center, int step, const IcWeights& w, int* m01_out, int* m10_out) {
+  cv::v_int32x4 m10 = cv::v_setzero_s32(), m01 = cv::v_setzero_s32();
+  for (int v = 0; v <= kHalfPatch; ++v) {
+    for (int blk = 0; blk < 2; ++blk) {
+      const int x = blk == 0 ? -kHalfPatch : 0;
+      cv::v_uint16x8 p0, p1, q0 = cv::v_setzero_u16(), q1 = q0;
+      cv::v_expand(cv::v_load(center + v * step + x), p0, p1);
+      if (v > 0) cv::v_expand(cv::v_load(center - v * step + x), q0, q1);
+      const cv::v_int16x8 s0 = cv::v_reinterpret_as_s16(p0 + q0), s1 = cv::v_reinterpret_as_s16(p1 + q1);
+      const cv::v_int16x8 d0 = cv::v_reinterpret_as_s16(p0) - cv::v_reinterpret_as_s16(q0);
+      const cv::v_int16x8 d1 = cv::v_reinterpret_as_s16(p1) - cv::v_reinterpret_as_s16(q1);
+      m10 += cv::v_dotprod(s0, cv::v_load(w.wu[v][blk][0])) + cv::v_dotprod(s1, cv::v_load(w.wu[v][blk][1]));
+      m01 += cv::v_dotprod(d0, cv::v_load(w.wv[v][blk][0])) + cv::v_dotprod(d1, cv::v_load(w.wv[v][blk][1]));
+    }
+  }
+  *m01_out = cv::v_reduce_sum(m01);
+  *m10_out = cv::v_reduce_sum(m10);
+}
+#endif
 
 }  // namespace
 
@@ -142,7 +186,26 @@ float intensityCentroidAngle(const cv::Mat& level, cv::Point2f pt) {
   CV_Assert(level.type() == CV_8UC1);
   CV_Assert(pt.x >= kHalfPatch && pt.y >= kHalfPatch && pt.x < level.cols - kHalfPatch &&
             pt.y < level.rows - kHalfPatch);
-  return icAngle(level, pt, umax);
+  const uint8_t* center = level.ptr<uint8_t>(cvRound(pt.y)) + cvRound(pt.x);
+  const int step = static_cast<int>(level.step1());
+  int m01 = 0, m10 = 0;
+#if CV_SIMD128
+  static const IcWeights weights(umax);
+  icMomentsSimd(center, step, weights, &m01, &m10);
+#else
+  icMomentsScalar(center, step, umax, &m01, &m10);
+#endif
+  return cv::fastAtan2(static_cast<float>(m01), static_cast<float>(m10));  // degrees [0, 360)
+}
+
+float intensityCentroidAngleScalar(const cv::Mat& level, cv::Point2f pt) {
+  static const std::vector<int> umax = makeUmax();
+  CV_Assert(level.type() == CV_8UC1);
+  CV_Assert(pt.x >= kHalfPatch && pt.y >= kHalfPatch && pt.x < level.cols - kHalfPatch &&
+            pt.y < level.rows - kHalfPatch);
+  int m01 = 0, m10 = 0;
+  icMomentsScalar(level.ptr<uint8_t>(cvRound(pt.y)) + cvRound(pt.x), static_cast<int>(level.step1()), umax, &m01, &m10);
+  return cv::fastAtan2(static_cast<float>(m01), static_cast<float>(m10));
 }
 
 }  // namespace iraf_vo

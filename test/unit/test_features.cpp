@@ -128,6 +128,23 @@ TEST(Orientation, IntensityCentroidPointsToBrightSide) {
   EXPECT_NEAR(intensityCentroidAngle(img2, cv::Point2f(32, 32)), 90.0, 2.0);
 }
 
+TEST(Orientation, SimdMomentsEqualScalarSums) {
+  // intensityCentroidAngle (int16 dot products) against the plain sums, bit for bit: random and saturated
+  // images, every position of an ROI (non-contiguous rows) down to the 15-px border.
+  cv::RNG rng(5);
+  cv::Mat img(90, 120, CV_8U);
+  rng.fill(img, cv::RNG::UNIFORM, 0, 256);
+  cv::rectangle(img, cv::Rect(40, 30, 30, 30), cv::Scalar(255), cv::FILLED);
+  const cv::Mat roi = img(cv::Rect(3, 2, 110, 80));
+  int n = 0;
+  for (int y = 15; y < roi.rows - 15; ++y)
+    for (int x = 15; x < roi.cols - 15; ++x, ++n) {
+      const cv::Point2f pt(static_cast<float>(x), static_cast<float>(y));
+      ASSERT_EQ(intensityCentroidAngle(roi, pt), intensityCentroidAngleScalar(roi, pt)) << x << ", " << y;
+    }
+  EXPECT_GT(n, 3000);
+}
+
 namespace {
 
 // Left half: bright, strongly textured, dense keypoints. Right half: flat dark, sparse keypoints.

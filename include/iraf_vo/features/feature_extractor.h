@@ -29,6 +29,8 @@ std::vector<cv::KeyPoint> distributeQuadTree(const std::vector<cv::KeyPoint>& ca
 /// Orientation by intensity centroid (ORB): angle in degrees [0, 360) of the moment vector over a disc of
 /// radius 15 around (x, y); (x, y) must be >= 15 px from the border.
 float intensityCentroidAngle(const cv::Mat& level, cv::Point2f pt);
+/// The same angle by the plain scalar sums (reference for tests; intensityCentroidAngle uses SIMD).
+float intensityCentroidAngleScalar(const cv::Mat& level, cv::Point2f pt);
 
 class FeatureExtractor {
  public:
