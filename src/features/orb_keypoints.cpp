@@ -27,6 +27,28 @@ struct QNode {
 
 }  // namespace
 
+int* partitionLikeStd(int* first, int* last, const uint8_t* pass, std::vector<int>* scratch) {
+  // libstdc++'s std::partition (bidirectional algorithm) swaps the k-th failing element from the left with
+  // the k-th passing element from the right while the former lies left of the latter, and returns
+  // first + (number passing). The same swaps, found by two branch-free compactions instead of its
+  // data-dependent scans (the quad-tree's partitions mispredicted on about every other keypoint).
+  const int n = static_cast<int>(last - first);
+  scratch->resize(2 * static_cast<size_t>(n) + 2);
+  int* fail = scratch->data();
+  int* hit = fail + n + 1;
+  int nf = 0, np = 0;
+  for (int i = 0; i < n; ++i) {
+    fail[nf] = i;
+    nf += !pass[first[i]];
+  }
+  for (int i = n - 1; i >= 0; --i) {
+    hit[np] = i;
+    np += pass[first[i]] != 0;
+  }
+  for (int k = 0; k < nf && k < np && fail[k] < hit[k]; ++k) std::swap(first[fail[k]], first[hit[k]]);
+  return first + np;
+}
+
 std::vector<int> featuresPerLevel(int n_features, double scale_factor, int n_levels) {
   std::vector<int> n(std::max(1, n_levels), 0);
   const double f = 1.0 / scale_factor;
@@ -45,8 +67,17 @@ std::vector<cv::KeyPoint> distributeQuadTree(const std::vector<cv::KeyPoint>& ca
                                              float y1, int n_desired) {
   std::vector<cv::KeyPoint> out;
   if (candidates.empty() || n_desired <= 0) return out;
-  std::vector<int> idx(candidates.size());
+  std::vector<int> idx(candidates.size()), scratch;
   for (size_t i = 0; i < idx.size(); ++i) idx[i] = static_cast<int>(i);
+  std::vector<uint8_t> pass(candidates.size());  // predicate of the current partition, per candidate
+  // Same partitions as std::partition with the predicates x < split / y < split (partitionLikeStd).
+  auto partition = [&](int* b, int* e, bool by_y, float split) {
+    for (const int* k = b; k != e; ++k) {
+      const cv::Point2f& pt = candidates[*k].pt;
+      pass[*k] = (by_y ? pt.y : pt.x) < split;
+    }
+    return partitionLikeStd(b, e, pass.data(), &scratch);
+  };
 
   // Initial nodes as in ORB-SLAM: round(w / h) square-ish nodes side by side.
   const int n_ini = std::max(1, static_cast<int>(std::lround((x1 - x0) / (y1 - y0))));
@@ -58,9 +89,7 @@ std::vector<cv::KeyPoint> distributeQuadTree(const std::vector<cv::KeyPoint>& ca
     for (int i = 0; i < n_ini; ++i) {
       const float nx0 = x0 + i * h_x, nx1 = (i + 1 == n_ini) ? x1 : x0 + (i + 1) * h_x;
       int* first = idx.data() + b;
-      int* mid = (i + 1 == n_ini) ? idx.data() + idx.size()
-                                  : std::partition(first, idx.data() + idx.size(),
-                                                   [&](int k) { return candidates[k].pt.x < nx1; });
+      int* mid = (i + 1 == n_ini) ? idx.data() + idx.size() : partition(first, idx.data() + idx.size(), false, nx1);
       const int e = static_cast<int>(mid - idx.data());
       if (e > b) {
         QNode q{nx0, y0, nx1, y1, b, e};
@@ -81,9 +110,9 @@ std::vector<cv::KeyPoint> distributeQuadTree(const std::vector<cv::KeyPoint>& ca
     }
     int* b = idx.data() + n.begin;
     int* e = idx.data() + n.end;
-    int* my = std::partition(b, e, [&](int k) { return candidates[k].pt.y < ym; });
-    int* mt = std::partition(b, my, [&](int k) { return candidates[k].pt.x < xm; });
-    int* mb = std::partition(my, e, [&](int k) { return candidates[k].pt.x < xm; });
+    int* my = partition(b, e, true, ym);
+    int* mt = partition(b, my, false, xm);
+    int* mb = partition(my, e, false, xm);
     const QNode kids[4] = {{n.x0, n.y0, xm, ym, n.begin, static_cast<int>(mt - idx.data())},
                            {xm, n.y0, n.x1, ym, static_cast<int>(mt - idx.data()), static_cast<int>(my - idx.data())},
                            {n.x0, ym, xm, n.y1, static_cast<int>(my - idx.data()), static_cast<int>(mb - idx.data())},

@@ -119,6 +119,25 @@ TEST(Distribution, QuadTreeSpreadsAndKeepsStrongest) {
   EXPECT_TRUE(distributeQuadTree({}, 0, 0, 10, 10, 5).empty());
 }
 
+TEST(Distribution, PartitionLikeStdIsStdPartitionsPermutation) {
+  // The quad-tree's tie-break (first strongest in index order) depends on the exact permutation.
+  cv::RNG rng(3);
+  std::vector<int> scratch;
+  for (int trial = 0; trial < 400; ++trial) {
+    const int n = trial % 50 == 0 ? 0 : rng.uniform(1, 300);
+    const double density = rng.uniform(0.0, 1.0);
+    std::vector<uint8_t> pass(n + 5);
+    for (uint8_t& p : pass) p = rng.uniform(0.0, 1.0) < density;
+    std::vector<int> a(n);
+    for (int i = 0; i < n; ++i) a[i] = rng.uniform(0, n + 5);  // indices into pass, repeats allowed
+    std::vector<int> b = a;
+    const auto ref = std::partition(a.begin(), a.end(), [&](int k) { return pass[k] != 0; });
+    int* ours = partitionLikeStd(b.data(), b.data() + n, pass.data(), &scratch);
+    ASSERT_EQ(ours - b.data(), ref - a.begin()) << "trial " << trial;
+    ASSERT_EQ(b, a) << "trial " << trial;
+  }
+}
+
 TEST(Orientation, IntensityCentroidPointsToBrightSide) {
   cv::Mat img(64, 64, CV_8U, cv::Scalar(0));
   img.colRange(32, 64).setTo(200);  // bright to the right: angle ~ 0 deg
