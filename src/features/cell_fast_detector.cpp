@@ -152,7 +152,11 @@ void CellFastDetector::scanStripAndRuns(const cv::Mat& strip, const CellGrid& g,
   // F_t of every detection column (its cell), then the scan threshold: min over the column and the
   // neighbours that see it.
   own_th_.assign(strip.cols, 255);
-  for (int c = 3; c < strip.cols - 3; ++c) own_th_[c] = static_cast<uint8_t>(std::min(255, cell_th_[g.colOf(static_cast<float>(c + g.min_border))]));
+  for (int j = 0; j < g.n_cols; ++j) {  // cell j holds detection columns [x0(j) + 3, x0(j + 1) + 3) (colOf)
+    const int cb = j == 0 ? 3 : g.x0(j) + 3 - g.min_border;
+    const int ce = std::min(j + 1 == g.n_cols ? strip.cols - 3 : g.x0(j + 1) + 3 - g.min_border, strip.cols - 3);
+    if (ce > cb) std::fill(own_th_.begin() + cb, own_th_.begin() + ce, static_cast<uint8_t>(cell_th_[j] < 0 ? 255 : std::min(255, cell_th_[j])));
+  }
   col_th_.resize(strip.cols);
   for (int c = 0; c < strip.cols; ++c) {
     uint8_t t = own_th_[c];

@@ -96,6 +96,7 @@ void cornerBlock(const uint8_t* row, const int* off, const uint8_t* th, int j0, 
   // Longest run of brighter / darker circle pixels per lane.
   const V one = Lanes<V>::all(1), arc_minus_1 = Lanes<V>::all(kArc - 1);
   V run_b = Lanes<V>::all(0), run_d = run_b, max_b = run_b, max_d = run_b;
+#pragma GCC unroll 25
   for (int k = 0; k < kRing; ++k) {
     const V x = Lanes<V>::load(p + off[k]);
     run_b = (run_b + one) & (x > hi);
@@ -135,6 +136,7 @@ template <class V>
 void nmsBlock(const uint8_t* a, const uint8_t* b, const uint8_t* c, const uint8_t* walls, int j0, int from, int* out,
               int* n) {
   const V s = Lanes<V>::load(b + j0);
+  if (!cv::v_check_any(s > Lanes<V>::all(0))) return;  // no corner in these columns
   V left = (s > Lanes<V>::load(a + j0 - 1)) & (s > Lanes<V>::load(b + j0 - 1)) & (s > Lanes<V>::load(c + j0 - 1));
   V right = (s > Lanes<V>::load(a + j0 + 1)) & (s > Lanes<V>::load(b + j0 + 1)) & (s > Lanes<V>::load(c + j0 + 1));
   if (walls) {
