@@ -27,11 +27,15 @@ struct QNode {
 
 }  // namespace
 
-int* partitionLikeStd(int* first, int* last, const uint8_t* pass, std::vector<int>* scratch) {
-  // libstdc++'s std::partition (bidirectional algorithm) swaps the k-th failing element from the left with
-  // the k-th passing element from the right while the former lies left of the latter, and returns
-  // first + (number passing). The same swaps, found by two branch-free compactions instead of its
-  // data-dependent scans (the quad-tree's partitions mispredicted on about every other keypoint).
+namespace {
+
+// libstdc++'s std::partition (bidirectional algorithm) swaps the k-th failing element from the left with
+// the k-th passing element from the right while the former lies left of the latter, and returns
+// first + (number passing). The same swaps, found by two branch-free compactions instead of its
+// data-dependent scans (the quad-tree's partitions mispredicted on about every other keypoint).
+// at_pass[i]: the predicate of first[i].
+template <class T>
+T* partitionByFlags(T* first, T* last, const uint8_t* at_pass, std::vector<int>* scratch) {
   const int n = static_cast<int>(last - first);
   scratch->resize(2 * static_cast<size_t>(n) + 2);
   int* fail = scratch->data();
@@ -39,14 +43,28 @@ int* partitionLikeStd(int* first, int* last, const uint8_t* pass, std::vector<in
   int nf = 0, np = 0;
   for (int i = 0; i < n; ++i) {
     fail[nf] = i;
-    nf += !pass[first[i]];
+    nf += !at_pass[i];
   }
   for (int i = n - 1; i >= 0; --i) {
     hit[np] = i;
-    np += pass[first[i]] != 0;
+    np += at_pass[i] != 0;
   }
   for (int k = 0; k < nf && k < np && fail[k] < hit[k]; ++k) std::swap(first[fail[k]], first[hit[k]]);
   return first + np;
+}
+
+// A candidate as the quad-tree moves it: position, FAST score, index.
+struct QItem {
+  float x, y, response;
+  int k;
+};
+
+}  // namespace
+
+int* partitionLikeStd(int* first, int* last, const uint8_t* pass, std::vector<int>* scratch) {
+  std::vector<uint8_t> at_pass(static_cast<size_t>(last - first));
+  for (size_t i = 0; i < at_pass.size(); ++i) at_pass[i] = pass[first[i]];
+  return partitionByFlags(first, last, at_pass.data(), scratch);
 }
 
 std::vector<int> featuresPerLevel(int n_features, double scale_factor, int n_levels) {
@@ -67,17 +85,21 @@ std::vector<cv::KeyPoint> distributeQuadTree(const std::vector<cv::KeyPoint>& ca
                                              float y1, int n_desired) {
   std::vector<cv::KeyPoint> out;
   if (candidates.empty() || n_desired <= 0) return out;
-  std::vector<int> idx(candidates.size()), scratch;
-  for (size_t i = 0; i < idx.size(); ++i) idx[i] = static_cast<int>(i);
-  std::vector<uint8_t> pass(candidates.size());  // predicate of the current partition, per candidate
+  // The candidates in the order std::partition would leave their indices (QItem carries the coordinates
+  // along so each partition reads them sequentially).
+  std::vector<QItem> items(candidates.size());
+  for (size_t i = 0; i < items.size(); ++i)
+    items[i] = {candidates[i].pt.x, candidates[i].pt.y, candidates[i].response, static_cast<int>(i)};
+  std::vector<int> scratch;
+  std::vector<uint8_t> at_pass(candidates.size());
   // Same partitions as std::partition with the predicates x < split / y < split (partitionLikeStd).
-  auto partition = [&](int* b, int* e, bool by_y, float split) {
-    for (const int* k = b; k != e; ++k) {
-      const cv::Point2f& pt = candidates[*k].pt;
-      pass[*k] = (by_y ? pt.y : pt.x) < split;
-    }
-    return partitionLikeStd(b, e, pass.data(), &scratch);
+  auto partition = [&](QItem* b, QItem* e, bool by_y, float split) {
+    uint8_t* f = at_pass.data();
+    for (const QItem* it = b; it != e; ++it) *f++ = (by_y ? it->y : it->x) < split;
+    return partitionByFlags(b, e, at_pass.data(), &scratch);
   };
+  QItem* const idx = items.data();
+  const size_t n_items = items.size();
 
   // Initial nodes as in ORB-SLAM: round(w / h) square-ish nodes side by side.
   const int n_ini = std::max(1, static_cast<int>(std::lround((x1 - x0) / (y1 - y0))));
@@ -88,9 +110,9 @@ std::vector<cv::KeyPoint> distributeQuadTree(const std::vector<cv::KeyPoint>& ca
     int b = 0;
     for (int i = 0; i < n_ini; ++i) {
       const float nx0 = x0 + i * h_x, nx1 = (i + 1 == n_ini) ? x1 : x0 + (i + 1) * h_x;
-      int* first = idx.data() + b;
-      int* mid = (i + 1 == n_ini) ? idx.data() + idx.size() : partition(first, idx.data() + idx.size(), false, nx1);
-      const int e = static_cast<int>(mid - idx.data());
+      QItem* first = idx + b;
+      QItem* mid = (i + 1 == n_ini) ? idx + n_items : partition(first, idx + n_items, false, nx1);
+      const int e = static_cast<int>(mid - idx);
       if (e > b) {
         QNode q{nx0, y0, nx1, y1, b, e};
         if (q.count() > 1) open.push(q); else done.push_back(q);
@@ -108,15 +130,16 @@ std::vector<cv::KeyPoint> distributeQuadTree(const std::vector<cv::KeyPoint>& ca
       done.push_back(n);
       continue;
     }
-    int* b = idx.data() + n.begin;
-    int* e = idx.data() + n.end;
-    int* my = partition(b, e, true, ym);
-    int* mt = partition(b, my, false, xm);
-    int* mb = partition(my, e, false, xm);
-    const QNode kids[4] = {{n.x0, n.y0, xm, ym, n.begin, static_cast<int>(mt - idx.data())},
-                           {xm, n.y0, n.x1, ym, static_cast<int>(mt - idx.data()), static_cast<int>(my - idx.data())},
-                           {n.x0, ym, xm, n.y1, static_cast<int>(my - idx.data()), static_cast<int>(mb - idx.data())},
-                           {xm, ym, n.x1, n.y1, static_cast<int>(mb - idx.data()), n.end}};
+    QItem* b = idx + n.begin;
+    QItem* e = idx + n.end;
+    QItem* my = partition(b, e, true, ym);
+    QItem* mt = partition(b, my, false, xm);
+    QItem* mb = partition(my, e, false, xm);
+    const int imt = static_cast<int>(mt - idx), imy = static_cast<int>(my - idx), imb = static_cast<int>(mb - idx);
+    const QNode kids[4] = {{n.x0, n.y0, xm, ym, n.begin, imt},
+                           {xm, n.y0, n.x1, ym, imt, imy},
+                           {n.x0, ym, xm, n.y1, imy, imb},
+                           {xm, ym, n.x1, n.y1, imb, n.end}};
     for (const QNode& k : kids) {
       if (k.count() > 1) open.push(k);
       else if (k.count() == 1) done.push_back(k);
@@ -125,10 +148,10 @@ std::vector<cv::KeyPoint> distributeQuadTree(const std::vector<cv::KeyPoint>& ca
   // Keep the strongest keypoint (FAST score) of each node.
   out.reserve(open.size() + done.size());
   auto best_of = [&](const QNode& n) {
-    int best = idx[n.begin];
+    int best = n.begin;  // the first strongest in the partitions' order
     for (int i = n.begin + 1; i < n.end; ++i)
-      if (candidates[idx[i]].response > candidates[best].response) best = idx[i];
-    out.push_back(candidates[best]);
+      if (idx[i].response > idx[best].response) best = i;
+    out.push_back(candidates[idx[best].k]);
   };
   for (const QNode& n : done) best_of(n);
   while (!open.empty()) {
