@@ -35,35 +35,98 @@ double histogramEntropy(const Histogram256& h) {
   return f_h;
 }
 
+namespace {
+
+// Adds sqrt(I_x^2 + I_y^2) of one row to a float sum, in a fixed order (vector lanes, then the tail).
+float rowMagnitudeSum(const int16_t* gx, const int16_t* gy, int cols) {
+  float row_sum = 0.f;
+  int c = 0;
+#if CV_SIMD
+  // sqrt(I_x^2 + I_y^2) with OpenCV's universal intrinsics (int16 -> int32 -> float, vector sqrt).
+  cv::v_float32 acc = cv::vx_setzero_f32();
+  for (; c + cv::v_int16::nlanes <= cols; c += cv::v_int16::nlanes) {
+    cv::v_int32 x0, x1, y0, y1;
+    cv::v_expand(cv::vx_load(gx + c), x0, x1);
+    cv::v_expand(cv::vx_load(gy + c), y0, y1);
+    const cv::v_float32 fx0 = cv::v_cvt_f32(x0), fx1 = cv::v_cvt_f32(x1);
+    const cv::v_float32 fy0 = cv::v_cvt_f32(y0), fy1 = cv::v_cvt_f32(y1);
+    acc += cv::v_sqrt(cv::v_fma(fx0, fx0, fy0 * fy0)) + cv::v_sqrt(cv::v_fma(fx1, fx1, fy1 * fy1));
+  }
+  row_sum = cv::v_reduce_sum(acc);
+#endif
+  for (; c < cols; ++c) row_sum += std::sqrt(static_cast<float>(gx[c] * gx[c] + gy[c] * gy[c]));
+  return row_sum;
+}
+
+}  // namespace
+
+double meanGradientMagnitudeReference(const cv::Mat& gray) {
+  CV_Assert(gray.type() == CV_8UC1);
+  if (gray.empty()) return 0.0;
+  cv::Mat dx, dy;
+  cv::spatialGradient(gray, dx, dy, 3, cv::BORDER_REPLICATE);
+  double sum = 0.0;
+  for (int r = 0; r < gray.rows; ++r) sum += rowMagnitudeSum(dx.ptr<int16_t>(r), dy.ptr<int16_t>(r), gray.cols);
+  return sum / (static_cast<double>(gray.rows) * gray.cols);
+}
+
 double meanGradientMagnitude(const cv::Mat& gray, cv::Mat* dx, cv::Mat* dy, cv::Mat* mag) {
   CV_Assert(gray.type() == CV_8UC1);
   if (gray.empty()) return 0.0;
-  // eq. (14): I_x, I_y by 3x3 Sobel; F_g = mean sqrt(I_x^2 + I_y^2)
-  cv::spatialGradient(gray, *dx, *dy, 3, cv::BORDER_REPLICATE);
+  // eq. (14): I_x, I_y by 3x3 Sobel (replicated border); F_g = mean sqrt(I_x^2 + I_y^2). The Sobel rows are
+  // computed here one at a time (separable: column sums s = U + 2M + D and differences e = D - U of the rows
+  // above / at / below, then I_x = s(c+1) - s(c-1), I_y = e(c-1) + 2 e(c) + e(c+1)): the same integers as
+  // cv::spatialGradient and the same float sums as meanGradientMagnitudeReference, without two image-sized
+  // int16 planes.
+  const int rows = gray.rows, cols = gray.cols;
   (void)mag;
+  dx->create(4, cols + 2, CV_16S);  // rows: s, e (with one replicated column each side), I_x, I_y
+  int16_t* s = dx->ptr<int16_t>(0);
+  int16_t* e = dx->ptr<int16_t>(1);
+  int16_t* gx = dx->ptr<int16_t>(2);
+  int16_t* gy = dx->ptr<int16_t>(3);
+  (void)dy;
   double sum = 0.0;
-  for (int r = 0; r < gray.rows; ++r) {
-    const int16_t* gx = dx->ptr<int16_t>(r);
-    const int16_t* gy = dy->ptr<int16_t>(r);
-    float row_sum = 0.f;
+  for (int r = 0; r < rows; ++r) {
+    const uint8_t* up = gray.ptr<uint8_t>(std::max(r - 1, 0));
+    const uint8_t* mid = gray.ptr<uint8_t>(r);
+    const uint8_t* dn = gray.ptr<uint8_t>(std::min(r + 1, rows - 1));
     int c = 0;
-#if CV_SIMD
-    // sqrt(I_x^2 + I_y^2) with OpenCV's universal intrinsics (int16 -> int32 -> float, vector sqrt).
-    cv::v_float32 acc = cv::vx_setzero_f32();
-    for (; c + cv::v_int16::nlanes <= gray.cols; c += cv::v_int16::nlanes) {
-      cv::v_int32 x0, x1, y0, y1;
-      cv::v_expand(cv::vx_load(gx + c), x0, x1);
-      cv::v_expand(cv::vx_load(gy + c), y0, y1);
-      const cv::v_float32 fx0 = cv::v_cvt_f32(x0), fx1 = cv::v_cvt_f32(x1);
-      const cv::v_float32 fy0 = cv::v_cvt_f32(y0), fy1 = cv::v_cvt_f32(y1);
-      acc += cv::v_sqrt(cv::v_fma(fx0, fx0, fy0 * fy0)) + cv::v_sqrt(cv::v_fma(fx1, fx1, fy1 * fy1));
+#if CV_SIMD128
+    for (; c + 16 <= cols; c += 16) {
+      cv::v_uint16x8 u0, u1, m0, m1, d0, d1;
+      cv::v_expand(cv::v_load(up + c), u0, u1);
+      cv::v_expand(cv::v_load(mid + c), m0, m1);
+      cv::v_expand(cv::v_load(dn + c), d0, d1);
+      cv::v_store(s + c + 1, cv::v_reinterpret_as_s16(u0 + m0 + m0 + d0));
+      cv::v_store(s + c + 9, cv::v_reinterpret_as_s16(u1 + m1 + m1 + d1));
+      cv::v_store(e + c + 1, cv::v_reinterpret_as_s16(d0) - cv::v_reinterpret_as_s16(u0));
+      cv::v_store(e + c + 9, cv::v_reinterpret_as_s16(d1) - cv::v_reinterpret_as_s16(u1));
     }
-    row_sum = cv::v_reduce_sum(acc);
 #endif
-    for (; c < gray.cols; ++c) row_sum += std::sqrt(static_cast<float>(gx[c] * gx[c] + gy[c] * gy[c]));
-    sum += row_sum;
+    for (; c < cols; ++c) {
+      s[c + 1] = static_cast<int16_t>(up[c] + 2 * mid[c] + dn[c]);
+      e[c + 1] = static_cast<int16_t>(dn[c] - up[c]);
+    }
+    s[0] = s[1];
+    e[0] = e[1];
+    s[cols + 1] = s[cols];
+    e[cols + 1] = e[cols];
+    c = 0;
+#if CV_SIMD128
+    for (; c + 8 <= cols; c += 8) {
+      const cv::v_int16x8 e1 = cv::v_load(e + c + 1);
+      cv::v_store(gx + c, cv::v_load(s + c + 2) - cv::v_load(s + c));
+      cv::v_store(gy + c, cv::v_load(e + c) + e1 + e1 + cv::v_load(e + c + 2));
+    }
+#endif
+    for (; c < cols; ++c) {
+      gx[c] = static_cast<int16_t>(s[c + 2] - s[c]);
+      gy[c] = static_cast<int16_t>(e[c] + 2 * e[c + 1] + e[c + 2]);
+    }
+    sum += rowMagnitudeSum(gx, gy, cols);
   }
-  return sum / (static_cast<double>(gray.rows) * gray.cols);
+  return sum / (static_cast<double>(rows) * cols);
 }
 
 double meanGradientMagnitude(const cv::Mat& gray) {

@@ -1,6 +1,8 @@
 // Feature stage building blocks on synthetic data: eqs. (13)-(20) adaptive threshold, (21)-(23) culling,
 // the ORB-SLAM quota / quad-tree, the extractor's contract and the YAML loader.
 #include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include <yaml-cpp/yaml.h>
 
@@ -68,6 +70,23 @@ TEST(AdaptiveThreshold, MeanGradientMagnitude) {
   EXPECT_NEAR(meanGradientMagnitude(step), 2.0 * 400.0 / 60.0, 1e-9);
   // eq. (15)
   EXPECT_DOUBLE_EQ(globalThreshold(7.0, 60.0, 1.5, 0.2), 1.5 * 7.0 + 0.2 * 60.0);
+}
+
+TEST(AdaptiveThreshold, RowSobelGradientEqualsSpatialGradientBitForBit) {
+  // F_g feeds F_t^g (eq. 15), the upper clip of every cell threshold: it must not move by one ulp.
+  cv::RNG rng(9);
+  for (int trial = 0; trial < 8; ++trial) {
+    cv::Mat img(rng.uniform(1, 60), rng.uniform(1, 90), CV_8U);
+    rng.fill(img, cv::RNG::UNIFORM, 0, 256);
+    if (trial % 2) cv::GaussianBlur(img, img, cv::Size(3, 3), 0);
+    const cv::Mat roi = img.cols > 4 ? img.colRange(1, img.cols - 1) : img;  // non-contiguous rows
+    EXPECT_EQ(meanGradientMagnitude(roi), meanGradientMagnitudeReference(roi)) << roi.size();
+  }
+  const std::string euroc = std::string(IRAF_VO_SHARED_DIR) + "/data/euroc_mh01_600/mav0/cam0/data/1403636584763555584.png";
+  const cv::Mat real = cv::imread(euroc, cv::IMREAD_GRAYSCALE);
+  if (!real.empty()) {
+    EXPECT_EQ(meanGradientMagnitude(real), meanGradientMagnitudeReference(real));
+  }
 }
 
 TEST(AdaptiveThreshold, LocalThresholdAndClip) {
