@@ -7,8 +7,9 @@ namespace iraf_vo {
 
 void accumulateHistogram(const cv::Mat& gray, Histogram256* h) {
   CV_Assert(gray.type() == CV_8UC1);
-  // Two interleaved sub-histograms break the store->load dependency on repeated values.
-  uint32_t a[256] = {0}, b[256] = {0};
+  // Two interleaved sub-histograms (*h itself and b) break the store->load dependency on repeated values.
+  uint32_t* a = h->data();
+  uint32_t b[256] = {0};
   for (int r = 0; r < gray.rows; ++r) {
     const uint8_t* p = gray.ptr<uint8_t>(r);
     int c = 0;
@@ -18,7 +19,7 @@ void accumulateHistogram(const cv::Mat& gray, Histogram256* h) {
     }
     if (c < gray.cols) ++a[p[c]];
   }
-  for (int i = 0; i < 256; ++i) (*h)[i] += a[i] + b[i];
+  for (int i = 0; i < 256; ++i) a[i] += b[i];
 }
 
 double histogramEntropy(const Histogram256& h) {
@@ -137,15 +138,15 @@ double meanGradientMagnitude(const cv::Mat& gray) {
 int otsuThreshold(const Histogram256& h) {
   // N = number of pixels, S = sum of intensities (mu_T = S / N); lo / hi = first / last non-empty bin.
   // Branch-free sums: cells have ~1000 pixels spread over unpredictable bins.
-  int64_t n = 0, sum_t = 0;
-  for (int i = 0; i < 256; ++i) {
+  int lo = 0, hi = 255;
+  while (lo < 256 && h[lo] == 0) ++lo;
+  if (lo == 256) return 0;  // empty
+  while (h[hi] == 0) --hi;
+  int64_t n = 0, sum_t = 0;  // over [lo, hi] = over all bins
+  for (int i = lo; i <= hi; ++i) {
     n += h[i];
     sum_t += static_cast<int64_t>(i) * h[i];
   }
-  if (n == 0) return 0;
-  int lo = 0, hi = 255;
-  while (h[lo] == 0) ++lo;
-  while (h[hi] == 0) --hi;
   if (lo == hi) return lo;  // single-valued: no split exists
   // eq. (16) with P_t = w0 / N and mu_t = s0 / N (w0 = pixels <= t, s0 = their intensity sum):
   //   sigma_c^2(t) = (mu_T P_t - mu_t)^2 / (P_t (1 - P_t)) = (S w0 - N s0)^2 / (N^2 w0 (N - w0)).
@@ -188,7 +189,8 @@ void CellThresholdEstimator::measureCells(const cv::Mat& img, const CellGrid& g,
       }
       Histogram256 h{};
       accumulateHistogram(img(cv::Rect(x0, y0, x1 - x0, y1 - y0)), &h);
-      for (int b = 0; b < 256; ++b) (*level_hist)[b] += h[b];
+      if (level_hist)
+        for (int b = 0; b < 256; ++b) (*level_hist)[b] += h[b];
       otsu_[c] = otsuThreshold(h);  // eqs. (16)-(18): t_o of the subregion
       // I_m of eq. (19). The paper uses the single centre pixel G(size/2, size/2); here the mean of a
       // center_window^2 patch at the centre (center_window = 1 gives the paper's pixel), because one
@@ -213,7 +215,7 @@ double CellThresholdEstimator::estimate(const cv::Mat& img, const CellGrid& g, c
     return p.min_th_fast;
   }
   Histogram256 level_hist{};
-  measureCells(img, g, p.center_window, &level_hist);
+  measureCells(img, g, p.center_window, level0 ? &level_hist : nullptr);  // F_h is of level 0 only
   // The global metrics (eqs. 13-15) are computed once, on level 0 (the enhanced image, as in the paper):
   // F_h over the detection area (the union of the level-0 cells), F_g over the whole image. Every level
   // uses this F_t^g as the upper clip; the per-cell F_t^l adapts to each level.

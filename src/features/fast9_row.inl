@@ -133,7 +133,7 @@ void cornerBlocks(const uint8_t* row, const int* off, const uint8_t* th, int* j,
 // 3x3 non-max suppression of the lanes of columns j0 .. j0 + nlanes - 1 of score row b (a above, c below;
 // non-corners score 0): kept iff the score is > every neighbour's, neighbours across a wall ignored.
 template <class V>
-void nmsBlock(const uint8_t* a, const uint8_t* b, const uint8_t* c, const uint8_t* walls, int j0, int from, int* out,
+inline __attribute__((always_inline)) void nmsBlock(const uint8_t* a, const uint8_t* b, const uint8_t* c, const uint8_t* walls, int j0, int from, int* out,
               int* n) {
   const V s = Lanes<V>::load(b + j0);
   if (!cv::v_check_any(s > Lanes<V>::all(0))) return;  // no corner in these columns

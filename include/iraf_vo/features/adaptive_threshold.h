@@ -58,7 +58,7 @@ class CellThresholdEstimator {
                   std::vector<double>* thresholds);
 
  private:
-  /// Otsu t_o (eqs. 16-18) and I_m (eq. 19) of every cell; adds the cells' histograms to *level_hist.
+  /// Otsu t_o (eqs. 16-18) and I_m (eq. 19) of every cell; adds the cells' histograms to *level_hist if given.
   void measureCells(const cv::Mat& level, const CellGrid& grid, int center_window, Histogram256* level_hist);
 
   std::vector<int> otsu_;
