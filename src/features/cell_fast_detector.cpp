@@ -152,10 +152,13 @@ void CellFastDetector::scanStripAndRuns(const cv::Mat& strip, const CellGrid& g,
   // F_t of every detection column (its cell), then the scan threshold: min over the column and the
   // neighbours that see it.
   own_th_.assign(strip.cols, 255);
+  cell_of_col_.assign(strip.cols, 0);
   for (int j = 0; j < g.n_cols; ++j) {  // cell j holds detection columns [x0(j) + 3, x0(j + 1) + 3) (colOf)
     const int cb = j == 0 ? 3 : g.x0(j) + 3 - g.min_border;
     const int ce = std::min(j + 1 == g.n_cols ? strip.cols - 3 : g.x0(j + 1) + 3 - g.min_border, strip.cols - 3);
-    if (ce > cb) std::fill(own_th_.begin() + cb, own_th_.begin() + ce, static_cast<uint8_t>(cell_th_[j] < 0 ? 255 : std::min(255, cell_th_[j])));
+    if (ce <= cb) continue;
+    std::fill(own_th_.begin() + cb, own_th_.begin() + ce, static_cast<uint8_t>(cell_th_[j] < 0 ? 255 : std::min(255, cell_th_[j])));
+    std::fill(cell_of_col_.begin() + cb, cell_of_col_.begin() + ce, j);
   }
   col_th_.resize(strip.cols);
   for (int c = 0; c < strip.cols; ++c) {
@@ -171,7 +174,7 @@ void CellFastDetector::scanStripAndRuns(const cv::Mat& strip, const CellGrid& g,
   }
   // Candidates in the reference's order: the strip call's corners (row-major), then each run's.
   for (const cv::KeyPoint& kp : strip_kps_) {
-    const int j = g.colOf(kp.pt.x);
+    const int j = cell_of_col_[static_cast<int>(kp.pt.x) - g.min_border];  // = g.colOf(kp.pt.x)
     if (cell_th_[j] < t_strip || kp.response < cell_th_[j]) continue;
     candidates->push_back(kp);
     candidates->back().class_id = cell_th_[j];
@@ -180,7 +183,7 @@ void CellFastDetector::scanStripAndRuns(const cv::Mat& strip, const CellGrid& g,
   for (const Run& r : runs_) {
     for (const cv::KeyPoint& kp : strip_kps_) {
       if (kp.pt.x < r.x_begin || kp.pt.x >= r.x_end) continue;
-      const int jj = std::min(r.j1, std::max(r.j0, static_cast<int>(kp.pt.x - g.min_border - 3) / g.w_cell));
+      const int jj = cell_of_col_[static_cast<int>(kp.pt.x) - g.min_border];  // within j0 .. j1
       if (kp.response < cell_th_[jj]) continue;
       candidates->push_back(kp);
       candidates->back().class_id = cell_th_[jj];

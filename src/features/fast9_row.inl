@@ -81,7 +81,7 @@ V scoreLanes(const uint8_t* p, const int* off, const V& v, const V& bright_lanes
 // The lanes of columns j0 .. j0 + nlanes - 1 of `row`; lanes below column `from` were done by an earlier block.
 // Corner columns are appended to pos[*nc ...], their scores written to curr[column].
 template <class V>
-void cornerBlock(const uint8_t* row, const int* off, const uint8_t* th, int j0, int from, uint8_t* curr, int* pos,
+inline __attribute__((always_inline)) void cornerBlock(const uint8_t* row, const int* off, const uint8_t* th, int j0, int from, uint8_t* curr, int* pos,
                  int* nc) {
   const uint8_t* p = row + j0;
   const V v = Lanes<V>::load(p), t = Lanes<V>::load(th + j0);

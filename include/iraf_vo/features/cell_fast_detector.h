@@ -54,6 +54,7 @@ class CellFastDetector {
   };
   std::vector<Run> runs_;
   std::vector<uint8_t> col_th_, own_th_, walls_;
+  std::vector<int> cell_of_col_;  // strip column -> cell (colOf)
   Fast9Buffers fast9_buffers_;
 };
 
