@@ -75,7 +75,21 @@ void detectFast9(const cv::Mat& img, const uint8_t* th, std::vector<cv::KeyPoint
     const uint8_t* prev = b->score[(i - 1) % 3].data();
     const uint8_t* pprev = b->score[(i - 2) % 3].data();
     int* kept = b->corners[(i - 1) % 3].data();  // its corner list is no longer needed
-    const int n_kept = kernels.maxima(pprev, prev, curr, walls, cols, kept);
+    int n_kept = 0;
+    const int n_prev = n_corners[(i - 1) % 3];
+    if (n_prev * 24 < cols) {  // few corners: test each (its list is ascending) rather than every column
+      for (int k = 0; k < n_prev; ++k) {
+        const int j = kept[k];
+        const uint8_t s = prev[j];
+        if (!(s > pprev[j] && s > curr[j])) continue;
+        const int w = walls ? walls[j] : 0;
+        if (((w & kWallLeft) || (s > prev[j - 1] && s > pprev[j - 1] && s > curr[j - 1])) &&
+            ((w & kWallRight) || (s > prev[j + 1] && s > pprev[j + 1] && s > curr[j + 1])))
+          kept[n_kept++] = j;
+      }
+    } else {
+      n_kept = kernels.maxima(pprev, prev, curr, walls, cols, kept);
+    }
     for (int k = 0; k < n_kept; ++k)
       keypoints->emplace_back(static_cast<float>(kept[k]), static_cast<float>(i - 1), 7.f, -1.f,
                               static_cast<float>(prev[kept[k]]));
