@@ -209,6 +209,22 @@ CullScene makeCullScene() {
 
 }  // namespace
 
+TEST(Culling, LocalContrastSimdEqualsScalarBitForBit) {
+  // H_c (eq. 22) from int16 dot products against the plain sums: every position of an ROI, including windows
+  // clipped by the border, patch sizes up to and beyond the 16-px SIMD width.
+  cv::RNG rng(21);
+  cv::Mat img(60, 80, CV_8U);
+  rng.fill(img, cv::RNG::UNIFORM, 0, 256);
+  cv::rectangle(img, cv::Rect(10, 10, 20, 20), cv::Scalar(255), cv::FILLED);
+  const cv::Mat roi = img(cv::Rect(2, 1, 70, 55));
+  for (int patch : {3, 7, 15, 17, 31})
+    for (int y = 0; y < roi.rows; ++y)
+      for (int x = 0; x < roi.cols; ++x)
+        ASSERT_EQ(localContrastImpl(roi, static_cast<float>(x), static_cast<float>(y), patch, true),
+                  localContrastImpl(roi, static_cast<float>(x), static_cast<float>(y), patch, false))
+            << "patch " << patch << " at " << x << ", " << y;
+}
+
 TEST(Culling, FlatDarkRegionIsCulledTexturedRegionKept) {
   const CullScene s = makeCullScene();
   FeatureParams p;
