@@ -7,8 +7,9 @@ namespace iraf_vo {
 
 void accumulateHistogram(const cv::Mat& gray, Histogram256* h) {
   CV_Assert(gray.type() == CV_8UC1);
-  // Two interleaved sub-histograms break the store->load dependency on repeated values.
-  uint32_t a[256] = {0}, b[256] = {0};
+  // Two interleaved sub-histograms (*h itself and b) break the store->load dependency on repeated values.
+  uint32_t* a = h->data();
+  uint32_t b[256] = {0};
   for (int r = 0; r < gray.rows; ++r) {
     const uint8_t* p = gray.ptr<uint8_t>(r);
     int c = 0;
@@ -18,7 +19,7 @@ void accumulateHistogram(const cv::Mat& gray, Histogram256* h) {
     }
     if (c < gray.cols) ++a[p[c]];
   }
-  for (int i = 0; i < 256; ++i) (*h)[i] += a[i] + b[i];
+  for (int i = 0; i < 256; ++i) a[i] += b[i];
 }
 
 double histogramEntropy(const Histogram256& h) {
@@ -35,35 +36,98 @@ double histogramEntropy(const Histogram256& h) {
   return f_h;
 }
 
+namespace {
+
+// Adds sqrt(I_x^2 + I_y^2) of one row to a float sum, in a fixed order (vector lanes, then the tail).
+float rowMagnitudeSum(const int16_t* gx, const int16_t* gy, int cols) {
+  float row_sum = 0.f;
+  int c = 0;
+#if CV_SIMD
+  // sqrt(I_x^2 + I_y^2) with OpenCV's universal intrinsics (int16 -> int32 -> float, vector sqrt).
+  cv::v_float32 acc = cv::vx_setzero_f32();
+  for (; c + cv::v_int16::nlanes <= cols; c += cv::v_int16::nlanes) {
+    cv::v_int32 x0, x1, y0, y1;
+    cv::v_expand(cv::vx_load(gx + c), x0, x1);
+    cv::v_expand(cv::vx_load(gy + c), y0, y1);
+    const cv::v_float32 fx0 = cv::v_cvt_f32(x0), fx1 = cv::v_cvt_f32(x1);
+    const cv::v_float32 fy0 = cv::v_cvt_f32(y0), fy1 = cv::v_cvt_f32(y1);
+    acc += cv::v_sqrt(cv::v_fma(fx0, fx0, fy0 * fy0)) + cv::v_sqrt(cv::v_fma(fx1, fx1, fy1 * fy1));
+  }
+  row_sum = cv::v_reduce_sum(acc);
+#endif
+  for (; c < cols; ++c) row_sum += std::sqrt(static_cast<float>(gx[c] * gx[c] + gy[c] * gy[c]));
+  return row_sum;
+}
+
+}  // namespace
+
+double meanGradientMagnitudeReference(const cv::Mat& gray) {
+  CV_Assert(gray.type() == CV_8UC1);
+  if (gray.empty()) return 0.0;
+  cv::Mat dx, dy;
+  cv::spatialGradient(gray, dx, dy, 3, cv::BORDER_REPLICATE);
+  double sum = 0.0;
+  for (int r = 0; r < gray.rows; ++r) sum += rowMagnitudeSum(dx.ptr<int16_t>(r), dy.ptr<int16_t>(r), gray.cols);
+  return sum / (static_cast<double>(gray.rows) * gray.cols);
+}
+
 double meanGradientMagnitude(const cv::Mat& gray, cv::Mat* dx, cv::Mat* dy, cv::Mat* mag) {
   CV_Assert(gray.type() == CV_8UC1);
   if (gray.empty()) return 0.0;
-  // eq. (14): I_x, I_y by 3x3 Sobel; F_g = mean sqrt(I_x^2 + I_y^2)
-  cv::spatialGradient(gray, *dx, *dy, 3, cv::BORDER_REPLICATE);
+  // eq. (14): I_x, I_y by 3x3 Sobel (replicated border); F_g = mean sqrt(I_x^2 + I_y^2). The Sobel rows are
+  // computed here one at a time (separable: column sums s = U + 2M + D and differences e = D - U of the rows
+  // above / at / below, then I_x = s(c+1) - s(c-1), I_y = e(c-1) + 2 e(c) + e(c+1)): the same integers as
+  // cv::spatialGradient and the same float sums as meanGradientMagnitudeReference, without two image-sized
+  // int16 planes.
+  const int rows = gray.rows, cols = gray.cols;
   (void)mag;
+  dx->create(4, cols + 2, CV_16S);  // rows: s, e (with one replicated column each side), I_x, I_y
+  int16_t* s = dx->ptr<int16_t>(0);
+  int16_t* e = dx->ptr<int16_t>(1);
+  int16_t* gx = dx->ptr<int16_t>(2);
+  int16_t* gy = dx->ptr<int16_t>(3);
+  (void)dy;
   double sum = 0.0;
-  for (int r = 0; r < gray.rows; ++r) {
-    const int16_t* gx = dx->ptr<int16_t>(r);
-    const int16_t* gy = dy->ptr<int16_t>(r);
-    float row_sum = 0.f;
+  for (int r = 0; r < rows; ++r) {
+    const uint8_t* up = gray.ptr<uint8_t>(std::max(r - 1, 0));
+    const uint8_t* mid = gray.ptr<uint8_t>(r);
+    const uint8_t* dn = gray.ptr<uint8_t>(std::min(r + 1, rows - 1));
     int c = 0;
-#if CV_SIMD
-    // sqrt(I_x^2 + I_y^2) with OpenCV's universal intrinsics (int16 -> int32 -> float, vector sqrt).
-    cv::v_float32 acc = cv::vx_setzero_f32();
-    for (; c + cv::v_int16::nlanes <= gray.cols; c += cv::v_int16::nlanes) {
-      cv::v_int32 x0, x1, y0, y1;
-      cv::v_expand(cv::vx_load(gx + c), x0, x1);
-      cv::v_expand(cv::vx_load(gy + c), y0, y1);
-      const cv::v_float32 fx0 = cv::v_cvt_f32(x0), fx1 = cv::v_cvt_f32(x1);
-      const cv::v_float32 fy0 = cv::v_cvt_f32(y0), fy1 = cv::v_cvt_f32(y1);
-      acc += cv::v_sqrt(cv::v_fma(fx0, fx0, fy0 * fy0)) + cv::v_sqrt(cv::v_fma(fx1, fx1, fy1 * fy1));
+#if CV_SIMD128
+    for (; c + 16 <= cols; c += 16) {
+      cv::v_uint16x8 u0, u1, m0, m1, d0, d1;
+      cv::v_expand(cv::v_load(up + c), u0, u1);
+      cv::v_expand(cv::v_load(mid + c), m0, m1);
+      cv::v_expand(cv::v_load(dn + c), d0, d1);
+      cv::v_store(s + c + 1, cv::v_reinterpret_as_s16(u0 + m0 + m0 + d0));
+      cv::v_store(s + c + 9, cv::v_reinterpret_as_s16(u1 + m1 + m1 + d1));
+      cv::v_store(e + c + 1, cv::v_reinterpret_as_s16(d0) - cv::v_reinterpret_as_s16(u0));
+      cv::v_store(e + c + 9, cv::v_reinterpret_as_s16(d1) - cv::v_reinterpret_as_s16(u1));
     }
-    row_sum = cv::v_reduce_sum(acc);
 #endif
-    for (; c < gray.cols; ++c) row_sum += std::sqrt(static_cast<float>(gx[c] * gx[c] + gy[c] * gy[c]));
-    sum += row_sum;
+    for (; c < cols; ++c) {
+      s[c + 1] = static_cast<int16_t>(up[c] + 2 * mid[c] + dn[c]);
+      e[c + 1] = static_cast<int16_t>(dn[c] - up[c]);
+    }
+    s[0] = s[1];
+    e[0] = e[1];
+    s[cols + 1] = s[cols];
+    e[cols + 1] = e[cols];
+    c = 0;
+#if CV_SIMD128
+    for (; c + 8 <= cols; c += 8) {
+      const cv::v_int16x8 e1 = cv::v_load(e + c + 1);
+      cv::v_store(gx + c, cv::v_load(s + c + 2) - cv::v_load(s + c));
+      cv::v_store(gy + c, cv::v_load(e + c) + e1 + e1 + cv::v_load(e + c + 2));
+    }
+#endif
+    for (; c < cols; ++c) {
+      gx[c] = static_cast<int16_t>(s[c + 2] - s[c]);
+      gy[c] = static_cast<int16_t>(e[c] + 2 * e[c + 1] + e[c + 2]);
+    }
+    sum += rowMagnitudeSum(gx, gy, cols);
   }
-  return sum / (static_cast<double>(gray.rows) * gray.cols);
+  return sum / (static_cast<double>(rows) * cols);
 }
 
 double meanGradientMagnitude(const cv::Mat& gray) {
@@ -74,15 +138,15 @@ double meanGradientMagnitude(const cv::Mat& gray) {
 int otsuThreshold(const Histogram256& h) {
   // N = number of pixels, S = sum of intensities (mu_T = S / N); lo / hi = first / last non-empty bin.
   // Branch-free sums: cells have ~1000 pixels spread over unpredictable bins.
-  int64_t n = 0, sum_t = 0;
-  for (int i = 0; i < 256; ++i) {
+  int lo = 0, hi = 255;
+  while (lo < 256 && h[lo] == 0) ++lo;
+  if (lo == 256) return 0;  // empty
+  while (h[hi] == 0) --hi;
+  int64_t n = 0, sum_t = 0;  // over [lo, hi] = over all bins
+  for (int i = lo; i <= hi; ++i) {
     n += h[i];
     sum_t += static_cast<int64_t>(i) * h[i];
   }
-  if (n == 0) return 0;
-  int lo = 0, hi = 255;
-  while (h[lo] == 0) ++lo;
-  while (h[hi] == 0) --hi;
   if (lo == hi) return lo;  // single-valued: no split exists
   // eq. (16) with P_t = w0 / N and mu_t = s0 / N (w0 = pixels <= t, s0 = their intensity sum):
   //   sigma_c^2(t) = (mu_T P_t - mu_t)^2 / (P_t (1 - P_t)) = (S w0 - N s0)^2 / (N^2 w0 (N - w0)).
@@ -125,7 +189,8 @@ void CellThresholdEstimator::measureCells(const cv::Mat& img, const CellGrid& g,
       }
       Histogram256 h{};
       accumulateHistogram(img(cv::Rect(x0, y0, x1 - x0, y1 - y0)), &h);
-      for (int b = 0; b < 256; ++b) (*level_hist)[b] += h[b];
+      if (level_hist)
+        for (int b = 0; b < 256; ++b) (*level_hist)[b] += h[b];
       otsu_[c] = otsuThreshold(h);  // eqs. (16)-(18): t_o of the subregion
       // I_m of eq. (19). The paper uses the single centre pixel G(size/2, size/2); here the mean of a
       // center_window^2 patch at the centre (center_window = 1 gives the paper's pixel), because one
@@ -150,7 +215,7 @@ double CellThresholdEstimator::estimate(const cv::Mat& img, const CellGrid& g, c
     return p.min_th_fast;
   }
   Histogram256 level_hist{};
-  measureCells(img, g, p.center_window, &level_hist);
+  measureCells(img, g, p.center_window, level0 ? &level_hist : nullptr);  // F_h is of level 0 only
   // The global metrics (eqs. 13-15) are computed once, on level 0 (the enhanced image, as in the paper):
   // F_h over the detection area (the union of the level-0 cells), F_g over the whole image. Every level
   // uses this F_t^g as the upper clip; the per-cell F_t^l adapts to each level.

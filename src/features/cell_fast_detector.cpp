@@ -16,6 +16,9 @@ namespace iraf_vo {
 // corner at any t' < t with score >= t, and non-max suppression only compares corners' scores.
 // T_s is chosen per strip (cost model below) so a few low-threshold cells do not make FAST scan the
 // whole strip at a low threshold; runs of cells below T_s get their own call.
+// These calls define the output; they are computed by one detectFast9 pass per strip (scanStripAndRuns,
+// bit for bit the same corners) and detectFast9 at one threshold (fastAt = cv::FAST) for the retries.
+// T_s keeps the cost model fitted to cv::FAST because T_s decides the run ROIs and so the output.
 // Empty cells are retried at retry_th (ORB-SLAM's minThFAST retry). Each pixel belongs to one cell,
 // so unlike ORB-SLAM's overlapping ROIs no corner is reported twice.
 // That is the reference path (FeatureParams::fast_path = false). The fast path (default) scans each strip
@@ -47,6 +50,13 @@ void CellFastDetector::detect(const cv::Mat& img, const CellGrid& g, const std::
     }
     detectCellRow(img, g, i, th_retry, one_pass, candidates, st);
   }
+}
+
+void CellFastDetector::fastAt(const cv::Mat& roi, int t, std::vector<cv::KeyPoint>* kps) {
+  // detectFast9 with every column at t gives exactly cv::FAST(roi, kps, t, true) (same corners, scores,
+  // order; test Fast9.EqualsCvFastForOneThreshold), ~2x faster on EuRoC strips (issue 12).
+  col_th_.assign(roi.cols, static_cast<uint8_t>(std::min(t, 255)));
+  detectFast9(roi, col_th_.data(), kps, &fast9_buffers_);
 }
 
 int CellFastDetector::stripThreshold(const std::vector<int>& sorted_th, int n_valid) {
@@ -84,7 +94,7 @@ void CellFastDetector::detectCellRow(const cv::Mat& img, const CellGrid& g, int 
   } else {
     std::sort(sorted_th_.begin(), sorted_th_.begin() + n_valid);
     t_strip = stripThreshold(sorted_th_, n_valid);
-    scanStripAndRuns(img, strip, g, ini_y, max_y, t_strip, candidates);
+    scanStripAndRuns(strip, g, ini_y, t_strip, candidates);
   }
   retryEmptyCells(img, g, ini_y, max_y, th_retry, t_strip, candidates, st);
 }
@@ -108,41 +118,97 @@ void CellFastDetector::scanStripOnePass(const cv::Mat& strip, const CellGrid& g,
   }
 }
 
-void CellFastDetector::scanStripAndRuns(const cv::Mat& img, const cv::Mat& strip, const CellGrid& g, int ini_y,
-                                        int max_y, int t_strip, std::vector<cv::KeyPoint>* candidates) {
-  // Strip scan: detection area x in [min_border + 3, max_x - 3), the union of the cells' areas.
-  cv::FAST(strip, strip_kps_, t_strip, true);
-  for (cv::KeyPoint& kp : strip_kps_) {
-    kp.pt.x += g.min_border;
-    kp.pt.y += ini_y;
-    const int j = g.colOf(kp.pt.x);
-    if (cell_th_[j] < t_strip || kp.response < cell_th_[j]) continue;
-    kp.class_id = cell_th_[j];
-    candidates->push_back(kp);
-    ++cell_count_[j];
-  }
-  // Cells below T_s: one call per run of adjacent such cells, at the run's lowest threshold, every
-  // corner again filtered by its own cell's threshold.
+void CellFastDetector::scanStripAndRuns(const cv::Mat& strip, const CellGrid& g, int ini_y, int t_strip,
+                                        std::vector<cv::KeyPoint>* candidates) {
+  // The reference: cv::FAST over the strip at T_s (corners of cells below T_s dropped), then per run of
+  // adjacent cells below T_s one cv::FAST call at the run's lowest threshold t_run on the run's ROI; every
+  // corner is kept iff its score >= its cell's threshold F_t. Here all of that is ONE detectFast9 pass over
+  // the strip, with non-max suppression walls at each run's first / last detection column (its ROI ends
+  // there) and column c scanned at min F_t over c and the neighbours whose NMS sees c. Identical output:
+  //  - a pixel's FAST score s does not depend on the threshold or the ROI (>= 3 px inside), only NMS does;
+  //  - NMS keeps a corner iff s > the score of every neighbour that is a corner of the same call; a neighbour
+  //    scoring below s never suppresses, so a neighbour matters only when its score >= s >= the corner's F_t,
+  //    and every neighbour column is scanned at a threshold <= that F_t. Which neighbours are seen is the
+  //    call's ROI: the whole strip for strip corners, the run's columns for run corners (walls).
+  walls_.assign(strip.cols, 0);
+  runs_.clear();
+  const int x_last = g.max_x - 3;  // detection columns of the strip: [min_border + 3, max_x - 3)
   for (int j = 0; j < g.n_cols;) {
     if (cell_th_[j] < 0 || cell_th_[j] >= t_strip) {
       ++j;
       continue;
     }
-    int j1 = j, t_run = cell_th_[j];
-    while (j1 + 1 < g.n_cols && cell_th_[j1 + 1] >= 0 && cell_th_[j1 + 1] < t_strip) t_run = std::min(t_run, cell_th_[++j1]);
-    const int ini_x = g.x0(j);
-    const int max_x = std::min(g.x0(j1 + 1) + 6, g.max_x);
-    cv::FAST(img(cv::Rect(ini_x, ini_y, max_x - ini_x, max_y - ini_y)), cell_kps_, t_run, true);
-    for (cv::KeyPoint& kp : cell_kps_) {
-      kp.pt.x += ini_x;
-      kp.pt.y += ini_y;
-      const int jj = std::min(j1, std::max(j, static_cast<int>(kp.pt.x - g.min_border - 3) / g.w_cell));
+    int j1 = j;
+    while (j1 + 1 < g.n_cols && cell_th_[j1 + 1] >= 0 && cell_th_[j1 + 1] < t_strip) ++j1;
+    // The run's ROI [x0(j), min(x0(j1 + 1) + 6, max_x)) detects columns [x0(j) + 3, min(x0(j1 + 1) + 3, max_x - 3)).
+    const int xb = g.x0(j) + 3 - g.min_border, xe = std::min(g.x0(j1 + 1) + 3, x_last) - g.min_border;
+    if (xe > xb) {
+      walls_[xb] |= kWallLeft;
+      walls_[xe - 1] |= kWallRight;
+    }
+    runs_.push_back({j, j1, xb + g.min_border, xe + g.min_border});
+    j = j1 + 1;
+  }
+  // F_t of every detection column (its cell), then the scan threshold: min over the column and the
+  // neighbours that see it.
+  own_th_.assign(strip.cols, 255);
+  cell_of_col_.assign(strip.cols, 0);
+  for (int j = 0; j < g.n_cols; ++j) {  // cell j holds detection columns [x0(j) + 3, x0(j + 1) + 3) (colOf)
+    const int cb = j == 0 ? 3 : g.x0(j) + 3 - g.min_border;
+    const int ce = std::min(j + 1 == g.n_cols ? strip.cols - 3 : g.x0(j + 1) + 3 - g.min_border, strip.cols - 3);
+    if (ce <= cb) continue;
+    std::fill(own_th_.begin() + cb, own_th_.begin() + ce, static_cast<uint8_t>(cell_th_[j] < 0 ? 255 : std::min(255, cell_th_[j])));
+    std::fill(cell_of_col_.begin() + cb, cell_of_col_.begin() + ce, j);
+  }
+  col_th_.resize(strip.cols);
+  for (int c = 0; c < strip.cols; ++c) {
+    uint8_t t = own_th_[c];
+    if (c > 0 && !(walls_[c - 1] & kWallRight)) t = std::min(t, own_th_[c - 1]);
+    if (c + 1 < strip.cols && !(walls_[c + 1] & kWallLeft)) t = std::min(t, own_th_[c + 1]);
+    col_th_[c] = t;
+  }
+  detectFast9(strip, col_th_.data(), &strip_kps_, &fast9_buffers_, walls_.data());
+  for (cv::KeyPoint& kp : strip_kps_) {
+    kp.pt.x += g.min_border;
+    kp.pt.y += ini_y;
+  }
+  // Candidates in the reference's order: the strip call's corners (row-major), then each run's.
+  for (const cv::KeyPoint& kp : strip_kps_) {
+    const int j = cell_of_col_[static_cast<int>(kp.pt.x) - g.min_border];  // = g.colOf(kp.pt.x)
+    if (cell_th_[j] < t_strip || kp.response < cell_th_[j]) continue;
+    candidates->push_back(kp);
+    candidates->back().class_id = cell_th_[j];
+    ++cell_count_[j];
+  }
+  for (const Run& r : runs_) {
+    for (const cv::KeyPoint& kp : strip_kps_) {
+      if (kp.pt.x < r.x_begin || kp.pt.x >= r.x_end) continue;
+      const int jj = cell_of_col_[static_cast<int>(kp.pt.x) - g.min_border];  // within j0 .. j1
       if (kp.response < cell_th_[jj]) continue;
-      kp.class_id = cell_th_[jj];
       candidates->push_back(kp);
+      candidates->back().class_id = cell_th_[jj];
       ++cell_count_[jj];
     }
-    j = j1 + 1;
+  }
+}
+
+void CellFastDetector::stripRetryCorners(const cv::Mat& strip, const CellGrid& g, int ini_y, int j, int th_retry,
+                                         std::vector<cv::KeyPoint>* candidates) {
+  // The reference's retry of empty cell j (not in a run) at retry_th >= T_s: the strip call's corners in
+  // cell j with score >= retry_th. The scan above only holds corners down to F_t, so the cell's columns
+  // are scanned again at retry_th with one column on each side (the neighbours its NMS sees; a neighbour
+  // matters only when its score >= retry_th) and 3 px for the circle, clipped to the strip.
+  const int xb = g.x0(j) + 3 - g.min_border;
+  const int xe = std::min(j + 1 < g.n_cols ? g.x0(j + 1) + 3 : g.max_x - 3, g.max_x - 3) - g.min_border;
+  const int lo = std::max(0, xb - 4), hi = std::min(strip.cols, xe + 4);
+  fastAt(strip.colRange(lo, hi), th_retry, &cell_kps_);
+  for (const cv::KeyPoint& kp : cell_kps_) {
+    const int x = static_cast<int>(kp.pt.x) + lo;
+    if (x < xb || x >= xe) continue;
+    candidates->push_back(kp);
+    candidates->back().pt.x = static_cast<float>(x + g.min_border);
+    candidates->back().pt.y += ini_y;
+    candidates->back().class_id = th_retry;
   }
 }
 
@@ -153,24 +219,15 @@ void CellFastDetector::retryEmptyCells(const cv::Mat& img, const CellGrid& g, in
     const int th = cell_th_[j];
     if (th < 0 || cell_count_[j] > 0 || th_retry >= th) continue;
     ++st->cells_retried;
-    if (t_strip <= th_retry) {  // the strip scan already holds the retry corners of this cell
-      for (const cv::KeyPoint& kp : strip_kps_) {
-        if (g.colOf(kp.pt.x) != j || kp.response < th_retry) continue;
-        cv::KeyPoint k = kp;
-        k.class_id = th_retry;
-        candidates->push_back(k);
-      }
+    if (t_strip <= th_retry) {  // the reference takes them from its strip call
+      stripRetryCorners(img(cv::Rect(g.min_border, ini_y, g.max_x - g.min_border, max_y - ini_y)), g, ini_y, j,
+                        th_retry, candidates);
       continue;
     }
     const int ini_x = g.x0(j);
     const int max_x = std::min(ini_x + g.w_cell + 6, g.max_x);
     const cv::Mat cell = img(cv::Rect(ini_x, ini_y, max_x - ini_x, max_y - ini_y));
-    if (t_strip > 255) {  // fast path: detectFast9 at one threshold = cv::FAST, without its per-call setup
-      col_th_.assign(cell.cols, static_cast<uint8_t>(std::min(th_retry, 255)));
-      detectFast9(cell, col_th_.data(), &cell_kps_, &fast9_buffers_);
-    } else {
-      cv::FAST(cell, cell_kps_, th_retry, true);
-    }
+    fastAt(cell, th_retry, &cell_kps_);
     for (cv::KeyPoint& kp : cell_kps_) {
       kp.pt.x += ini_x;
       kp.pt.y += ini_y;

@@ -1,5 +1,9 @@
 #include "iraf_vo/features/feature_culling.h"
 
+#include "iraf_vo/features/feature_extractor.h"  // partitionLikeStd
+
+#include <opencv2/core/hal/intrin.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -14,13 +18,10 @@ double stabilityScore(double density, double c_light, const FeatureParams& p) {
   return p.w1 * sigmoid(p.k * (density - p.d_opt)) + p.w2 * light;
 }
 
-double localContrast(const cv::Mat& level, float x, float y, int patch) {
-  CV_Assert(level.type() == CV_8UC1);
-  const int h = patch / 2;
-  const int cx = cvRound(x), cy = cvRound(y);
-  const int x0 = std::max(0, cx - h), x1 = std::min(level.cols - 1, cx + h);
-  const int y0 = std::max(0, cy - h), y1 = std::min(level.rows - 1, cy + h);
-  if (x0 > x1 || y0 > y1) return 0.0;
+namespace {
+
+// Sum and sum of squares of the window's pixels (integers: any order gives the same values).
+void windowSumsScalar(const cv::Mat& level, int x0, int x1, int y0, int y1, uint32_t* s_out, uint64_t* s2_out) {
   uint32_t s = 0;
   uint64_t s2 = 0;
   for (int r = y0; r <= y1; ++r) {
@@ -33,6 +34,54 @@ double localContrast(const cv::Mat& level, float x, float y, int patch) {
     s += rs;
     s2 += rs2;
   }
+  *s_out = s;
+  *s2_out = s2;
+}
+
+}  // namespace
+
+double localContrast(const cv::Mat& level, float x, float y, int patch) {
+  return localContrastImpl(level, x, y, patch, true);
+}
+
+double localContrastImpl(const cv::Mat& level, float x, float y, int patch, bool simd) {
+  CV_Assert(level.type() == CV_8UC1);
+  const int h = patch / 2;
+  const int cx = cvRound(x), cy = cvRound(y);
+  const int x0 = std::max(0, cx - h), x1 = std::min(level.cols - 1, cx + h);
+  const int y0 = std::max(0, cy - h), y1 = std::min(level.rows - 1, cy + h);
+  if (x0 > x1 || y0 > y1) return 0.0;
+  uint32_t s = 0;
+  uint64_t s2 = 0;
+  const int w = x1 - x0 + 1;
+  // 16 bytes per row, from x0 or ending at x1, must stay inside the row.
+  const int start = x0 + 16 <= level.cols ? x0 : x1 - 15;
+#if CV_SIMD128
+  if (simd && w <= 16 && y1 - y0 < 64 && start >= 0) {
+    // Rows of <= 16 pixels as int16 dot products with a 0/1 lane mask (pixel) and with themselves (square);
+    // <= 64 rows keep the int32 lanes exact.
+    int16_t m[16];
+    for (int k = 0; k < 16; ++k) m[k] = static_cast<int16_t>(start + k >= x0 && start + k <= x1);
+    const cv::v_int16x8 m0 = cv::v_load(m), m1 = cv::v_load(m + 8);
+    cv::v_int32x4 vs = cv::v_setzero_s32(), vs2 = vs;
+    for (int r = y0; r <= y1; ++r) {
+      cv::v_uint16x8 a, b;
+      cv::v_expand(cv::v_load(level.ptr<uint8_t>(r) + start), a, b);
+      const cv::v_int16x8 pa = cv::v_reinterpret_as_s16(a) * m0, pb = cv::v_reinterpret_as_s16(b) * m1;
+      vs += cv::v_dotprod(pa, m0) + cv::v_dotprod(pb, m1);
+      vs2 += cv::v_dotprod(pa, pa) + cv::v_dotprod(pb, pb);
+    }
+    s = static_cast<uint32_t>(cv::v_reduce_sum(vs));
+    s2 = static_cast<uint64_t>(cv::v_reduce_sum(vs2));
+  } else {
+    windowSumsScalar(level, x0, x1, y0, y1, &s, &s2);
+  }
+#else
+  (void)simd;
+  (void)start;
+  windowSumsScalar(level, x0, x1, y0, y1, &s, &s2);
+#endif
+  (void)w;
   const double n = static_cast<double>(x1 - x0 + 1) * (y1 - y0 + 1);
   const double mean = s / n;
   return std::sqrt(std::max(0.0, s2 / n - mean * mean));  // H_c
@@ -50,8 +99,9 @@ struct QuadNode {
 std::vector<float> quadTreeDensity(const std::vector<cv::KeyPoint>& kps, cv::Size image_size, int min_node_size) {
   std::vector<float> density(kps.size(), 0.f);
   if (kps.empty() || image_size.area() <= 0) return density;
-  std::vector<int> idx(kps.size());
+  std::vector<int> idx(kps.size()), scratch;
   std::iota(idx.begin(), idx.end(), 0);
+  std::vector<uint8_t> pass(kps.size());
   // Mean density of the frame: D values are reported relative to it (see header).
   const double mean_density = static_cast<double>(kps.size()) / image_size.area();
   std::vector<QuadNode> stack;
@@ -69,13 +119,14 @@ std::vector<float> quadTreeDensity(const std::vector<cv::KeyPoint>& kps, cv::Siz
       continue;
     }
     const int xm = n.x0 + w / 2, ym = n.y0 + h / 2;
-    auto top = [&](int i) { return kps[i].pt.y < ym; };
-    auto left = [&](int i) { return kps[i].pt.x < xm; };
+    // A leaf's density does not depend on the order inside the index array: branch-free partitions.
     int* b = idx.data() + n.begin;
     int* e = idx.data() + n.end;
-    int* mid_y = std::partition(b, e, top);
-    int* mid_t = std::partition(b, mid_y, left);
-    int* mid_b = std::partition(mid_y, e, left);
+    for (const int* k = b; k != e; ++k) pass[*k] = kps[*k].pt.y < ym;
+    int* mid_y = partitionLikeStd(b, e, pass.data(), &scratch);
+    for (const int* k = b; k != e; ++k) pass[*k] = kps[*k].pt.x < xm;
+    int* mid_t = partitionLikeStd(b, mid_y, pass.data(), &scratch);
+    int* mid_b = partitionLikeStd(mid_y, e, pass.data(), &scratch);
     const int ib = n.begin, it = static_cast<int>(mid_t - idx.data()), iy = static_cast<int>(mid_y - idx.data()),
               ibb = static_cast<int>(mid_b - idx.data());
     stack.push_back({n.x0, n.y0, xm, ym, ib, it});

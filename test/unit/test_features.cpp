@@ -1,6 +1,8 @@
 // Feature stage building blocks on synthetic data: eqs. (13)-(20) adaptive threshold, (21)-(23) culling,
 // the ORB-SLAM quota / quad-tree, the extractor's contract and the YAML loader.
 #include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include <yaml-cpp/yaml.h>
 
@@ -70,6 +72,23 @@ TEST(AdaptiveThreshold, MeanGradientMagnitude) {
   EXPECT_DOUBLE_EQ(globalThreshold(7.0, 60.0, 1.5, 0.2), 1.5 * 7.0 + 0.2 * 60.0);
 }
 
+TEST(AdaptiveThreshold, RowSobelGradientEqualsSpatialGradientBitForBit) {
+  // F_g feeds F_t^g (eq. 15), the upper clip of every cell threshold: it must not move by one ulp.
+  cv::RNG rng(9);
+  for (int trial = 0; trial < 8; ++trial) {
+    cv::Mat img(rng.uniform(1, 60), rng.uniform(1, 90), CV_8U);
+    rng.fill(img, cv::RNG::UNIFORM, 0, 256);
+    if (trial % 2) cv::GaussianBlur(img, img, cv::Size(3, 3), 0);
+    const cv::Mat roi = img.cols > 4 ? img.colRange(1, img.cols - 1) : img;  // non-contiguous rows
+    EXPECT_EQ(meanGradientMagnitude(roi), meanGradientMagnitudeReference(roi)) << roi.size();
+  }
+  const std::string euroc = std::string(IRAF_VO_SHARED_DIR) + "/data/euroc_mh01_600/mav0/cam0/data/1403636584763555584.png";
+  const cv::Mat real = cv::imread(euroc, cv::IMREAD_GRAYSCALE);
+  if (!real.empty()) {
+    EXPECT_EQ(meanGradientMagnitude(real), meanGradientMagnitudeReference(real));
+  }
+}
+
 TEST(AdaptiveThreshold, LocalThresholdAndClip) {
   EXPECT_DOUBLE_EQ(localThreshold(100.0, 70.0, 0.5), 15.0);  // eq. (19)
   EXPECT_DOUBLE_EQ(localThreshold(70.0, 100.0, 0.5), 15.0);
@@ -119,6 +138,25 @@ TEST(Distribution, QuadTreeSpreadsAndKeepsStrongest) {
   EXPECT_TRUE(distributeQuadTree({}, 0, 0, 10, 10, 5).empty());
 }
 
+TEST(Distribution, PartitionLikeStdIsStdPartitionsPermutation) {
+  // The quad-tree's tie-break (first strongest in index order) depends on the exact permutation.
+  cv::RNG rng(3);
+  std::vector<int> scratch;
+  for (int trial = 0; trial < 400; ++trial) {
+    const int n = trial % 50 == 0 ? 0 : rng.uniform(1, 300);
+    const double density = rng.uniform(0.0, 1.0);
+    std::vector<uint8_t> pass(n + 5);
+    for (uint8_t& p : pass) p = rng.uniform(0.0, 1.0) < density;
+    std::vector<int> a(n);
+    for (int i = 0; i < n; ++i) a[i] = rng.uniform(0, n + 5);  // indices into pass, repeats allowed
+    std::vector<int> b = a;
+    const auto ref = std::partition(a.begin(), a.end(), [&](int k) { return pass[k] != 0; });
+    int* ours = partitionLikeStd(b.data(), b.data() + n, pass.data(), &scratch);
+    ASSERT_EQ(ours - b.data(), ref - a.begin()) << "trial " << trial;
+    ASSERT_EQ(b, a) << "trial " << trial;
+  }
+}
+
 TEST(Orientation, IntensityCentroidPointsToBrightSide) {
   cv::Mat img(64, 64, CV_8U, cv::Scalar(0));
   img.colRange(32, 64).setTo(200);  // bright to the right: angle ~ 0 deg
@@ -126,6 +164,23 @@ TEST(Orientation, IntensityCentroidPointsToBrightSide) {
   cv::Mat img2(64, 64, CV_8U, cv::Scalar(0));
   img2.rowRange(33, 64).setTo(200);  // bright below: +y is 90 deg in image coordinates
   EXPECT_NEAR(intensityCentroidAngle(img2, cv::Point2f(32, 32)), 90.0, 2.0);
+}
+
+TEST(Orientation, SimdMomentsEqualScalarSums) {
+  // intensityCentroidAngle (int16 dot products) against the plain sums, bit for bit: random and saturated
+  // images, every position of an ROI (non-contiguous rows) down to the 15-px border.
+  cv::RNG rng(5);
+  cv::Mat img(90, 120, CV_8U);
+  rng.fill(img, cv::RNG::UNIFORM, 0, 256);
+  cv::rectangle(img, cv::Rect(40, 30, 30, 30), cv::Scalar(255), cv::FILLED);
+  const cv::Mat roi = img(cv::Rect(3, 2, 110, 80));
+  int n = 0;
+  for (int y = 15; y < roi.rows - 15; ++y)
+    for (int x = 15; x < roi.cols - 15; ++x, ++n) {
+      const cv::Point2f pt(static_cast<float>(x), static_cast<float>(y));
+      ASSERT_EQ(intensityCentroidAngle(roi, pt), intensityCentroidAngleScalar(roi, pt)) << x << ", " << y;
+    }
+  EXPECT_GT(n, 3000);
 }
 
 namespace {
@@ -153,6 +208,22 @@ CullScene makeCullScene() {
 }
 
 }  // namespace
+
+TEST(Culling, LocalContrastSimdEqualsScalarBitForBit) {
+  // H_c (eq. 22) from int16 dot products against the plain sums: every position of an ROI, including windows
+  // clipped by the border, patch sizes up to and beyond the 16-px SIMD width.
+  cv::RNG rng(21);
+  cv::Mat img(60, 80, CV_8U);
+  rng.fill(img, cv::RNG::UNIFORM, 0, 256);
+  cv::rectangle(img, cv::Rect(10, 10, 20, 20), cv::Scalar(255), cv::FILLED);
+  const cv::Mat roi = img(cv::Rect(2, 1, 70, 55));
+  for (int patch : {3, 7, 15, 17, 31})
+    for (int y = 0; y < roi.rows; ++y)
+      for (int x = 0; x < roi.cols; ++x)
+        ASSERT_EQ(localContrastImpl(roi, static_cast<float>(x), static_cast<float>(y), patch, true),
+                  localContrastImpl(roi, static_cast<float>(x), static_cast<float>(y), patch, false))
+            << "patch " << patch << " at " << x << ", " << y;
+}
 
 TEST(Culling, FlatDarkRegionIsCulledTexturedRegionKept) {
   const CullScene s = makeCullScene();

@@ -26,6 +26,8 @@ double histogramEntropy(const Histogram256& h);
 /// replicated border). `dx`, `dy`, `mag` are scratch buffers reused between calls.
 double meanGradientMagnitude(const cv::Mat& gray, cv::Mat* dx, cv::Mat* dy, cv::Mat* mag);
 double meanGradientMagnitude(const cv::Mat& gray);
+/// The same F_g from cv::spatialGradient's planes (the reference of the row-wise Sobel above, for tests).
+double meanGradientMagnitudeReference(const cv::Mat& gray);
 
 /// eq. (15): F_t^g = alpha * F_h + beta * F_g.
 inline double globalThreshold(double f_h, double f_g, double alpha, double beta) { return alpha * f_h + beta * f_g; }
@@ -56,7 +58,7 @@ class CellThresholdEstimator {
                   std::vector<double>* thresholds);
 
  private:
-  /// Otsu t_o (eqs. 16-18) and I_m (eq. 19) of every cell; adds the cells' histograms to *level_hist.
+  /// Otsu t_o (eqs. 16-18) and I_m (eq. 19) of every cell; adds the cells' histograms to *level_hist if given.
   void measureCells(const cv::Mat& level, const CellGrid& grid, int center_window, Histogram256* level_hist);
 
   std::vector<int> otsu_;

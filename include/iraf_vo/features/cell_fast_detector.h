@@ -23,26 +23,38 @@ class CellFastDetector {
               bool one_pass, std::vector<cv::KeyPoint>* candidates, std::vector<double>* cell_thresholds,
               FeatureStats* st);
 
+  /// The strip threshold T_s minimising the cost model of cv::FAST (see the .cpp) over the sorted cell
+  /// thresholds of a row (the first n_valid entries of sorted_th).
+  static int stripThreshold(const std::vector<int>& sorted_th, int n_valid);
+
  private:
   /// One row of cells: the corners at the cells' thresholds, then the retries of empty cells.
   void detectCellRow(const cv::Mat& level, const CellGrid& grid, int row, int th_retry, bool one_pass,
                      std::vector<cv::KeyPoint>* candidates, FeatureStats* st);
   /// Fast path: detectFast9 over the strip with every column at its cell's threshold.
   void scanStripOnePass(const cv::Mat& strip, const CellGrid& grid, int ini_y, std::vector<cv::KeyPoint>* candidates);
-  /// Reference path: cv::FAST over the strip at t_strip, then per run of cells below t_strip.
-  void scanStripAndRuns(const cv::Mat& level, const cv::Mat& strip, const CellGrid& grid, int ini_y, int max_y,
-                        int t_strip, std::vector<cv::KeyPoint>* candidates);
+  /// Reference path: the corners of cv::FAST over the strip at t_strip and per run of cells below t_strip
+  /// (one call per run, on the run's ROI), computed in one detectFast9 pass (see the .cpp).
+  void scanStripAndRuns(const cv::Mat& strip, const CellGrid& grid, int ini_y, int t_strip,
+                        std::vector<cv::KeyPoint>* candidates);
   /// Empty cells (where retry_th < their threshold) rescanned at retry_th; from the strip scan when it ran at
   /// t_strip <= retry_th.
   void retryEmptyCells(const cv::Mat& level, const CellGrid& grid, int ini_y, int max_y, int th_retry, int t_strip,
                        std::vector<cv::KeyPoint>* candidates, FeatureStats* st);
-  /// The strip threshold T_s minimising the cost model of cv::FAST (see the .cpp) over the sorted cell
-  /// thresholds of a row.
-  static int stripThreshold(const std::vector<int>& sorted_th, int n_valid);
-
+  /// Appends the reference strip call's corners of empty cell j with score >= th_retry (class_id th_retry).
+  void stripRetryCorners(const cv::Mat& strip, const CellGrid& grid, int ini_y, int j, int th_retry,
+                         std::vector<cv::KeyPoint>* candidates);
+  /// cv::FAST(roi, *kps, t, true), computed by detectFast9 with one threshold for every column.
+  void fastAt(const cv::Mat& roi, int t, std::vector<cv::KeyPoint>* kps);
   std::vector<int> cell_th_, cell_count_, sorted_th_;
   std::vector<cv::KeyPoint> strip_kps_, cell_kps_;
-  std::vector<uint8_t> col_th_;
+  struct Run {
+    int j0, j1;            // cells j0..j1 of the row, all below the strip threshold
+    int x_begin, x_end;    // their detection columns [level px]
+  };
+  std::vector<Run> runs_;
+  std::vector<uint8_t> col_th_, own_th_, walls_;
+  std::vector<int> cell_of_col_;  // strip column -> cell (colOf)
   Fast9Buffers fast9_buffers_;
 };
 

@@ -9,6 +9,8 @@
 
 namespace iraf_vo {
 
+constexpr uint8_t kWallLeft = 1, kWallRight = 2;
+
 /// Scratch rows reused between calls (no per-call allocation once grown).
 struct Fast9Buffers {
   std::vector<uint8_t> score[3];
@@ -21,7 +23,13 @@ struct Fast9Buffers {
 /// (cv::FAST's score); a corner is kept iff its score is > the score of every 8-neighbour that is a corner
 /// (at that neighbour's own column threshold). Row-major order, like cv::FAST. col_threshold has img.cols
 /// entries >= 1. With one threshold for every column the result equals cv::FAST(img, kps, t, true).
+/// walls (optional, img.cols entries): a column with kWallLeft (kWallRight) ignores the column on its left
+/// (right) in non-max suppression, as if the image ended there: cv::FAST on an ROI starting (ending) there.
 void detectFast9(const cv::Mat& img, const uint8_t* col_threshold, std::vector<cv::KeyPoint>* keypoints,
-                 Fast9Buffers* buffers);
+                 Fast9Buffers* buffers, const uint8_t* walls = nullptr);
+
+/// detectFast9's row kernel: AVX2 (32 lanes, where the CPU has it; the default) or the baseline SIMD build
+/// (16 lanes). Both give the same corners and scores; for tests. Returns whether AVX2 is now in use.
+bool fast9UseAvx2(bool allowed);
 
 }  // namespace iraf_vo

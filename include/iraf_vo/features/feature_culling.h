@@ -46,6 +46,8 @@ double stabilityScore(double density, double c_light, const FeatureParams& p);
 
 /// H_c: std-dev of the `patch` x `patch` window centred at (x, y) of `level` (clipped to the image).
 double localContrast(const cv::Mat& level, float x, float y, int patch);
+/// The same; simd = false forces the plain sums (the test reference; windows wider than 16 px always use them).
+double localContrastImpl(const cv::Mat& level, float x, float y, int patch, bool simd);
 
 /// eq. (21): relative density D of each keypoint's quad-tree leaf (keypoints in level-0 pixels).
 std::vector<float> quadTreeDensity(const std::vector<cv::KeyPoint>& kps, cv::Size image_size, int min_node_size);

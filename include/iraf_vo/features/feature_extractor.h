@@ -26,9 +26,15 @@ std::vector<int> featuresPerLevel(int n_features, double scale_factor, int n_lev
 std::vector<cv::KeyPoint> distributeQuadTree(const std::vector<cv::KeyPoint>& candidates, float x0, float y0, float x1,
                                              float y1, int n_desired);
 
+/// Reorders [first, last) exactly as libstdc++'s std::partition with the predicate pass[*it] != 0 does
+/// (same permutation, not only the same split), without data-dependent branches; returns the split point.
+int* partitionLikeStd(int* first, int* last, const uint8_t* pass, std::vector<int>* scratch);
+
 /// Orientation by intensity centroid (ORB): angle in degrees [0, 360) of the moment vector over a disc of
 /// radius 15 around (x, y); (x, y) must be >= 15 px from the border.
 float intensityCentroidAngle(const cv::Mat& level, cv::Point2f pt);
+/// The same angle by the plain scalar sums (reference for tests; intensityCentroidAngle uses SIMD).
+float intensityCentroidAngleScalar(const cv::Mat& level, cv::Point2f pt);
 
 class FeatureExtractor {
  public:

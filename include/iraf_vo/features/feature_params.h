@@ -39,9 +39,9 @@ struct FeatureParams {
   // (1 = the paper's single centre pixel; larger is robust to noise).
   int center_window = 5;
   // FAST with the per-cell thresholds. true: each row of cells in one FAST-9 pass whose threshold is per
-  // column (= every cell's own F_t of eq. 20, detectFast9), 1.24x faster front-end. false (default): the
-  // reference path, cv::FAST per row of cells at a strip threshold + per run of lower-threshold cells, corners
-  // filtered by their cell's threshold. Same corners except non-max suppression at run borders and the order
+  // column (= every cell's own F_t of eq. 20, detectFast9), ~1.02x faster front-end. false (default): the
+  // reference path, the corners of cv::FAST per row of cells at a strip threshold + per run of lower-threshold
+  // cells, filtered by their cell's threshold (computed bit for bit by one detectFast9 pass per row). Same corners except non-max suppression at run borders and the order
   // of equal-score candidates (97-98 % identical keypoints); identical with adaptive_threshold off. Not the
   // default yet: on the sim dark preset its ATE is ~2x the reference path's over 8 n_features perturbations
   // (README, feature stage), unexplained so far.
