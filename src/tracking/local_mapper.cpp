@@ -110,7 +110,7 @@ void LocalMapper::processKeyframe(long kf_id, bool run_ba) {
   if (!deferred()) map_->dropOldKeyframes(p_.max_map_keyframes);
 }
 
-void LocalMapper::mapKeyframeInTracking(long kf_id) {
+bool LocalMapper::commitPendingBA() {
   waitUntilIdle();
   std::unique_ptr<PendingBA> done;
   {
@@ -118,6 +118,11 @@ void LocalMapper::mapKeyframeInTracking(long kf_id) {
     done.swap(pending_ba_);
   }
   if (done) map_->applyLocalBA(done->problem, done->summary);
+  return done != nullptr;
+}
+
+void LocalMapper::mapKeyframeInTracking(long kf_id) {
+  commitPendingBA();
   map_->dropOldKeyframes(p_.max_map_keyframes);
   mapKeyframe(kf_id);
 }

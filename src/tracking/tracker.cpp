@@ -49,6 +49,7 @@ struct Tracker::Impl {
   Eigen::Isometry3d T_last_rel_kf = Eigen::Isometry3d::Identity();  // T_last_c_w * T_kf_c_w^-1
   Eigen::Isometry3d velocity = Eigen::Isometry3d::Identity();
   bool have_velocity = false;
+  bool map_corrected_before_frame = false;  // a deferred BA result was written back right before this frame
   long last_kf_id = -1;
   int frames_since_kf = 0;
   int consecutive_lost = 0;
@@ -129,6 +130,12 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in) {
   // One tracking step sees one version of the map: a BA result is written back before or after it, never
   // between the pose estimate, the keyframe created from it and T_last_rel_kf (see Map::lockUpdates).
   std::unique_lock<std::mutex> map_update = map.lockUpdates();
+  // Deferred commit, early: the BA started at the last keyframe is written back ba_commit_frames frames after it
+  // (waiting for it there, so the result does not depend on thread timing) instead of at the next keyframe.
+  // The velocity of the motion model was measured on the map before that correction: this frame's deviation from
+  // the prediction says nothing about the camera, so the health monitor's motion checks skip it.
+  map_corrected_before_frame = p.mapping_thread && p.ba_deferred_commit && p.ba_commit_frames > 0 &&
+                               frames_since_kf + 1 == p.ba_commit_frames && mapper.commitPendingBA();
   if (!trackWithMotionModel(cur, &res)) {
     map_update.unlock();
     health.restart();
@@ -229,7 +236,7 @@ std::string Tracker::Impl::checkHealth(const Frame& cur, const PoseTrackingResul
   in.refine_matches = r.refine_matches;
   in.median_chi2 = r.median_chi2;
   in.T_w_c = cur.T_c_w.inverse();
-  in.have_motion_model = have_velocity;
+  in.have_motion_model = have_velocity && !map_corrected_before_frame;
   in.T_w_last = T_last.inverse();
   in.T_w_predicted = T_predicted.inverse();
   in.median_depth = r.has_median_depth ? r.median_depth : last_median_depth;

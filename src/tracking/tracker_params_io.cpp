@@ -63,6 +63,8 @@ const ParamTable<TrackerParams>& trackerParamTable() {
                     "mapping_thread on: the tracking thread triangulates every new keyframe (else only when starving)"),
           boolParam("ba_deferred_commit", &P::ba_deferred_commit,
                     "mapping_thread on: BA results are written back at the next keyframe (reproducible threaded runs)"),
+          intParam("ba_commit_frames", &P::ba_commit_frames, 0, 100,
+                   "ba_deferred_commit: a keyframe's BA is written back this many frames after it, waiting for it (0 = at the next keyframe)"),
           intParam("sync_mapping_busy_frames", &P::sync_mapping_busy_frames, 0, 100,
                    "Keyframe rule: mapping counts as busy this many frames after a keyframe (both mapping modes)"),
           intParam("num_triangulation_neighbors", &P::num_triangulation_neighbors, 1, 50,

@@ -58,6 +58,9 @@ class LocalMapper {
   /// updates descriptors and triangulates for kf_id. The thread then only runs BA (insertKeyframe). Every
   /// frame thus sees a map that does not depend on thread timing.
   void mapKeyframeInTracking(long kf_id);
+  /// Deferred commit: waits for the running BA and writes its result back (tracking thread, holding
+  /// Map::lockUpdates); nothing when no result is pending. True when a result was written back.
+  bool commitPendingBA();
   LocalMapperStats stats() const;
   /// The largest change of the window's extent (after / before, or its inverse if that is larger, as a factor
   /// >= 1 with the direction kept: < 1 shrank) by a local BA since the last call; 1 when none ran.

@@ -54,6 +54,9 @@ struct TrackerParams {
   bool ba_deferred_commit = true;       // mapping_thread = true: the mapping thread only runs BA; the tracking
                                         // thread writes its result back at the next keyframe (waiting for it) and
                                         // culls / triangulates itself: results independent of thread timing
+  int ba_commit_frames = 0;             // ba_deferred_commit: the BA started at a keyframe is written back this many
+                                        // frames after it (the tracker waits for it there: still reproducible) or at
+                                        // the next keyframe, whichever comes first; 0 = at the next keyframe
   int sync_mapping_busy_frames = 3;     // the keyframe policy treats mapping as busy for this many frames after a
                                         // keyframe (synchronous and threaded mapping: the threaded mapper's real
                                         // state made the keyframes depend on the machine's load)
