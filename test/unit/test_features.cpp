@@ -166,14 +166,24 @@ TEST(Orientation, IntensityCentroidPointsToBrightSide) {
   EXPECT_NEAR(intensityCentroidAngle(img2, cv::Point2f(32, 32)), 90.0, 2.0);
 }
 
+namespace {
+
+// Uniform random grey levels with a saturated block, seen through an ROI (rows not contiguous): the SIMD-vs-scalar
+// tests' image.
+cv::Mat randomRoiWithSaturatedBlock(int seed, const cv::Size& size, const cv::Rect& block, const cv::Rect& roi) {
+  cv::RNG rng(seed);
+  cv::Mat img(size, CV_8U);
+  rng.fill(img, cv::RNG::UNIFORM, 0, 256);
+  cv::rectangle(img, block, cv::Scalar(255), cv::FILLED);
+  return img(roi);
+}
+
+}  // namespace
+
 TEST(Orientation, SimdMomentsEqualScalarSums) {
   // intensityCentroidAngle (int16 dot products) against the plain sums, bit for bit: random and saturated
   // images, every position of an ROI (non-contiguous rows) down to the 15-px border.
-  cv::RNG rng(5);
-  cv::Mat img(90, 120, CV_8U);
-  rng.fill(img, cv::RNG::UNIFORM, 0, 256);
-  cv::rectangle(img, cv::Rect(40, 30, 30, 30), cv::Scalar(255), cv::FILLED);
-  const cv::Mat roi = img(cv::Rect(3, 2, 110, 80));
+  const cv::Mat roi = randomRoiWithSaturatedBlock(5, cv::Size(120, 90), cv::Rect(40, 30, 30, 30), cv::Rect(3, 2, 110, 80));
   int n = 0;
   for (int y = 15; y < roi.rows - 15; ++y)
     for (int x = 15; x < roi.cols - 15; ++x, ++n) {
@@ -212,11 +222,7 @@ CullScene makeCullScene() {
 TEST(Culling, LocalContrastSimdEqualsScalarBitForBit) {
   // H_c (eq. 22) from int16 dot products against the plain sums: every position of an ROI, including windows
   // clipped by the border, patch sizes up to and beyond the 16-px SIMD width.
-  cv::RNG rng(21);
-  cv::Mat img(60, 80, CV_8U);
-  rng.fill(img, cv::RNG::UNIFORM, 0, 256);
-  cv::rectangle(img, cv::Rect(10, 10, 20, 20), cv::Scalar(255), cv::FILLED);
-  const cv::Mat roi = img(cv::Rect(2, 1, 70, 55));
+  const cv::Mat roi = randomRoiWithSaturatedBlock(21, cv::Size(80, 60), cv::Rect(10, 10, 20, 20), cv::Rect(2, 1, 70, 55));
   for (int patch : {3, 7, 15, 17, 31})
     for (int y = 0; y < roi.rows; ++y)
       for (int x = 0; x < roi.cols; ++x)
