@@ -71,7 +71,7 @@ double meanGradientMagnitudeReference(const cv::Mat& gray) {
   return sum / (static_cast<double>(gray.rows) * gray.cols);
 }
 
-double meanGradientMagnitude(const cv::Mat& gray, cv::Mat* dx, cv::Mat* dy, cv::Mat* mag) {
+double meanGradientMagnitude(const cv::Mat& gray, cv::Mat* sobel_rows) {
   CV_Assert(gray.type() == CV_8UC1);
   if (gray.empty()) return 0.0;
   // eq. (14): I_x, I_y by 3x3 Sobel (replicated border); F_g = mean sqrt(I_x^2 + I_y^2). The Sobel rows are
@@ -80,13 +80,11 @@ double meanGradientMagnitude(const cv::Mat& gray, cv::Mat* dx, cv::Mat* dy, cv::
   // cv::spatialGradient and the same float sums as meanGradientMagnitudeReference, without two image-sized
   // int16 planes.
   const int rows = gray.rows, cols = gray.cols;
-  (void)mag;
-  dx->create(4, cols + 2, CV_16S);  // rows: s, e (with one replicated column each side), I_x, I_y
-  int16_t* s = dx->ptr<int16_t>(0);
-  int16_t* e = dx->ptr<int16_t>(1);
-  int16_t* gx = dx->ptr<int16_t>(2);
-  int16_t* gy = dx->ptr<int16_t>(3);
-  (void)dy;
+  sobel_rows->create(4, cols + 2, CV_16S);  // rows: s, e (with one replicated column each side), I_x, I_y
+  int16_t* s = sobel_rows->ptr<int16_t>(0);
+  int16_t* e = sobel_rows->ptr<int16_t>(1);
+  int16_t* gx = sobel_rows->ptr<int16_t>(2);
+  int16_t* gy = sobel_rows->ptr<int16_t>(3);
   double sum = 0.0;
   for (int r = 0; r < rows; ++r) {
     const uint8_t* up = gray.ptr<uint8_t>(std::max(r - 1, 0));
@@ -131,8 +129,8 @@ double meanGradientMagnitude(const cv::Mat& gray, cv::Mat* dx, cv::Mat* dy, cv::
 }
 
 double meanGradientMagnitude(const cv::Mat& gray) {
-  cv::Mat dx, dy, mag;
-  return meanGradientMagnitude(gray, &dx, &dy, &mag);
+  cv::Mat sobel_rows;
+  return meanGradientMagnitude(gray, &sobel_rows);
 }
 
 int otsuThreshold(const Histogram256& h) {
@@ -221,7 +219,7 @@ double CellThresholdEstimator::estimate(const cv::Mat& img, const CellGrid& g, c
   // uses this F_t^g as the upper clip; the per-cell F_t^l adapts to each level.
   if (level0) {
     st->entropy = histogramEntropy(level_hist);                                          // eq. (13): F_h
-    st->gradient = meanGradientMagnitude(img, &dx_, &dy_, &mag_);                         // eq. (14): F_g
+    st->gradient = meanGradientMagnitude(img, &sobel_rows_);                         // eq. (14): F_g
     st->global_threshold = globalThreshold(st->entropy, st->gradient, p.alpha, p.beta);  // eq. (15): F_t^g
   }
   for (int c = 0; c < g.cells(); ++c) {

@@ -62,7 +62,7 @@ std::string validate(const PipelineParams& p) {
 }
 
 ResolutionDefaults resolutionDefaults(int width, int height, double focal, double scale_factor, bool fisheye) {
-  constexpr double kRefWidth = 752, kRefHeight = 480, kRefFocal = 458.654, kMinLevelSide = 80.0;
+  constexpr double kRefWidth = 752, kRefHeight = 480, kMinLevelSide = 80.0;
   const ResolutionDefaults ref;
   ResolutionDefaults d;
   if (width <= 0 || height <= 0 || !(focal > 0)) return d;
@@ -73,7 +73,7 @@ ResolutionDefaults resolutionDefaults(int width, int height, double focal, doubl
   if (scale_factor > 1.0)
     while (d.n_levels < ref.n_levels && std::min(width, height) / std::pow(scale_factor, d.n_levels) >= kMinLevelSide)
       ++d.n_levels;
-  const double f = focal / kRefFocal;
+  const double f = focal / kResolutionRefFocal;
   d.search_radius_px = std::max(5.0, ref.search_radius_px * f);
   d.search_radius_wide_px = std::max(15.0, ref.search_radius_wide_px * f);
   d.search_radius_refine_px = std::max(2.0, ref.search_radius_refine_px * f);
@@ -91,7 +91,7 @@ ResolutionDefaults resolutionDefaults(int width, int height, double focal, doubl
 
 std::string applyFeatureResolutionRule(int width, int height, const std::set<std::string>& user_set, FeatureParams* p) {
   // The feature fields depend on the image size only (any positive focal gives the same ones).
-  const ResolutionDefaults d = resolutionDefaults(width, height, 458.654, p->scale_factor);
+  const ResolutionDefaults d = resolutionDefaults(width, height, kResolutionRefFocal, p->scale_factor);
   const auto unset = [&user_set](const char* key) { return user_set.count(key) == 0; };
   if (unset("features.n_features")) p->n_features = d.n_features;
   if (unset("features.cell_size")) p->cell_size = d.cell_size;
@@ -102,9 +102,10 @@ std::string applyFeatureResolutionRule(int width, int height, const std::set<std
   return buf;
 }
 
-std::string applyTrackerResolutionRule(int width, int height, double focal, bool fisheye, double scale_factor,
+std::string applyTrackerResolutionRule(int width, int height, double focal, bool fisheye,
                                        const std::set<std::string>& user_set, TrackerParams* p) {
-  const ResolutionDefaults d = resolutionDefaults(width, height, focal, scale_factor, fisheye);
+  // The tracker fields depend on the size and the focal length only (scale_factor only sets n_levels).
+  const ResolutionDefaults d = resolutionDefaults(width, height, focal, FeatureParams().scale_factor, fisheye);
   const auto unset = [&user_set](const char* key) { return user_set.count(key) == 0; };
   if (unset("tracker.search_radius_px")) p->search_radius_px = d.search_radius_px;
   if (unset("tracker.search_radius_wide_px")) p->search_radius_wide_px = d.search_radius_wide_px;
@@ -124,8 +125,7 @@ std::string applyTrackerResolutionRule(int width, int height, double focal, bool
 
 std::string applyResolutionRule(int width, int height, double focal, bool fisheye, PipelineParams* p) {
   const std::string f = applyFeatureResolutionRule(width, height, p->user_set, &p->features);
-  return f + ", " + applyTrackerResolutionRule(width, height, focal, fisheye, p->features.scale_factor, p->user_set,
-                                               &p->tracker);
+  return f + ", " + applyTrackerResolutionRule(width, height, focal, fisheye, p->user_set, &p->tracker);
 }
 
 }  // namespace iraf_vo

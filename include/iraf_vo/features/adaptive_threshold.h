@@ -23,8 +23,8 @@ void accumulateHistogram(const cv::Mat& gray, Histogram256* h);
 double histogramEntropy(const Histogram256& h);
 
 /// eq. (14): F_g = 1/(N M) sum sqrt(I_x^2 + I_y^2), I_x, I_y = 3x3 Sobel (cv::spatialGradient,
-/// replicated border). `dx`, `dy`, `mag` are scratch buffers reused between calls.
-double meanGradientMagnitude(const cv::Mat& gray, cv::Mat* dx, cv::Mat* dy, cv::Mat* mag);
+/// replicated border). `sobel_rows` is a scratch buffer (4 int16 rows) reused between calls.
+double meanGradientMagnitude(const cv::Mat& gray, cv::Mat* sobel_rows);
 double meanGradientMagnitude(const cv::Mat& gray);
 /// The same F_g from cv::spatialGradient's planes (the reference of the row-wise Sobel above, for tests).
 double meanGradientMagnitudeReference(const cv::Mat& gray);
@@ -63,7 +63,7 @@ class CellThresholdEstimator {
 
   std::vector<int> otsu_;
   std::vector<double> center_;
-  cv::Mat dx_, dy_, mag_;
+  cv::Mat sobel_rows_;  // scratch of meanGradientMagnitude
 };
 
 }  // namespace iraf_vo

@@ -40,6 +40,8 @@ struct PipelineParams {
 /// 1241x376 f 719 (KITTI): 1150, 40, 8, 23.5 / 62.7 / 6.3, 115 / 69 / 57, 1 deg
 /// 512x512 f 191 (TUM-VI fisheye): 850, 30, 8, 6.2 / 16.7 / 2, 85 / 51 / 43, 2.4 deg
 /// 240x180 f 200 (DAVIS240): 500, 30, 5, 6.5 / 17.4 / 2, 50 / 30 / 25, 1 deg
+/// The focal length the struct defaults were chosen for (EuRoC cam0 fx, 752x480).
+constexpr double kResolutionRefFocal = 458.654;
 struct ResolutionDefaults {
   int n_features = 1000, cell_size = 35, n_levels = 8;
   double search_radius_px = 15.0, search_radius_wide_px = 40.0, search_radius_refine_px = 4.0;
@@ -55,7 +57,7 @@ ResolutionDefaults resolutionDefaults(int width, int height, double focal, doubl
 std::string applyResolutionRule(int width, int height, double focal, bool fisheye, PipelineParams* p);
 /// The rule for one stage (what the nodelets use): fields named in user_set ("features.n_features", ...) are kept.
 std::string applyFeatureResolutionRule(int width, int height, const std::set<std::string>& user_set, FeatureParams* p);
-std::string applyTrackerResolutionRule(int width, int height, double focal, bool fisheye, double scale_factor,
+std::string applyTrackerResolutionRule(int width, int height, double focal, bool fisheye,
                                        const std::set<std::string>& user_set, TrackerParams* p);
 
 /// Reads the optional sections of a YAML file (other top-level keys are ignored). false + *error naming the file,
