@@ -34,7 +34,7 @@ PACKAGES=(
   python3-sensor-msgs python3-geometry-msgs python3-nav-msgs python3-tf2-msgs
   libdiagnostic-updater-dev python3-diagnostic-msgs python3-diagnostic-updater
   python3-tf2-ros tf2-tools image-transport-tools
-  libceres-dev libeigen3-dev libopencv-dev libyaml-cpp-dev libgtest-dev
+  libceres-dev libeigen3-dev libopencv-dev libyaml-cpp-dev libgtest-dev libdeflate-dev
   python3-numpy python3-matplotlib python3-yaml python3-opencv
   opencv-doc rviz
 )

@@ -10,6 +10,7 @@
 #include <sys/stat.h>
 
 #include "iraf_vo/camera/camera_loader.h"
+#include "iraf_vo/io/png_gray8.h"
 
 namespace iraf_vo {
 
@@ -73,11 +74,15 @@ bool readMono8(const std::string& path, cv::Mat* gray, std::string* error) {
     if (error) *error = path + ": image file missing";
     return false;
   }
-  cv::Mat raw;
-  try {
-    raw = cv::imread(path, cv::IMREAD_UNCHANGED);
-  } catch (const cv::Exception& e) {
-    if (error) *error = path + ": OpenCV cannot read image: " + e.what();
+  thread_local std::vector<uint8_t> bytes;  // the file, reused from frame to frame
+  if (!readFileBytes(path, &bytes)) {
+    if (error) *error = path + ": cannot read image file";
+    return false;
+  }
+  std::string opencv_error;
+  const cv::Mat raw = decodeImage(bytes.data(), bytes.size(), &opencv_error);
+  if (!opencv_error.empty()) {
+    if (error) *error = path + ": OpenCV cannot read image: " + opencv_error;
     return false;
   }
   if (raw.empty()) {

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "iraf_vo/io/image_folder.h"
+#include "iraf_vo/io/png_gray8.h"
 
 namespace iraf_vo {
 
@@ -64,11 +65,10 @@ bool toMono8(const sensor_msgs::CompressedImage& msg, cv::Mat* gray, std::string
     *error = what + ": no data";
     return false;
   }
-  cv::Mat raw;
-  try {
-    raw = cv::imdecode(msg.data, cv::IMREAD_UNCHANGED);
-  } catch (const cv::Exception& e) {
-    *error = what + ": OpenCV cannot decode it: " + e.what();
+  std::string opencv_error;
+  const cv::Mat raw = decodeImage(msg.data.data(), msg.data.size(), &opencv_error);
+  if (!opencv_error.empty()) {
+    *error = what + ": OpenCV cannot decode it: " + opencv_error;
     return false;
   }
   if (raw.empty()) {

@@ -1,0 +1,204 @@
+#include "iraf_vo/io/png_gray8.h"
+
+#include <libdeflate.h>
+
+#include <climits>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+
+namespace iraf_vo {
+
+namespace {
+
+constexpr uint8_t kSignature[8] = {137, 80, 78, 71, 13, 10, 26, 10};
+constexpr uint64_t kMaxRawBytes = uint64_t(1) << 30;  // larger images go to OpenCV
+
+uint32_t readBigEndian32(const uint8_t* p) {
+  return (uint32_t(p[0]) << 24) | (uint32_t(p[1]) << 16) | (uint32_t(p[2]) << 8) | uint32_t(p[3]);
+}
+
+bool chunkIs(const uint8_t* type, const char* name) { return std::memcmp(type, name, 4) == 0; }
+
+// Chunks that do not change what OpenCV decodes for an 8-bit grayscale image.
+bool isMetadataChunk(const uint8_t* type) {
+  return chunkIs(type, "tEXt") || chunkIs(type, "zTXt") || chunkIs(type, "iTXt") || chunkIs(type, "tIME") ||
+         chunkIs(type, "pHYs");
+}
+
+// One decompressor and the scratch buffers per thread (no per-frame allocation once warm).
+struct DecoderState {
+  libdeflate_decompressor* inflater = libdeflate_alloc_decompressor();
+  std::vector<uint8_t> compressed, filtered, zero_row;
+  ~DecoderState() {
+    if (inflater) libdeflate_free_decompressor(inflater);
+  }
+};
+
+DecoderState& decoderState() {
+  thread_local DecoderState state;
+  return state;
+}
+
+// PNG filter types (PNG spec, section 9) for one byte per pixel: x = filtered byte + predictor, with
+// a = left, b = above, c = above-left of the reconstructed image (0 outside it).
+void unfilterSub(const uint8_t* f, uint8_t* x, int w) {
+  uint8_t a = 0;
+  for (int i = 0; i < w; ++i) x[i] = a = static_cast<uint8_t>(f[i] + a);
+}
+
+void unfilterUp(const uint8_t* f, const uint8_t* b, uint8_t* x, int w) {
+  for (int i = 0; i < w; ++i) x[i] = static_cast<uint8_t>(f[i] + b[i]);
+}
+
+void unfilterAverage(const uint8_t* f, const uint8_t* b, uint8_t* x, int w) {
+  int a = 0;
+  for (int i = 0; i < w; ++i) {
+    a = (f[i] + ((a + b[i]) >> 1)) & 0xff;
+    x[i] = static_cast<uint8_t>(a);
+  }
+}
+
+// One Paeth pixel, branch-free (libpng's per-pixel branches mispredict on camera images). a / c: the row's
+// left and above-left values, updated for the next pixel.
+inline void paethPixel(uint8_t f, int b, uint8_t* x, int* a, int* c) {
+  const int pa = std::abs(b - *c), pb = std::abs(*a - *c), pc = std::abs(*a + b - 2 * *c);
+  const int below = pb <= pc ? b : *c;
+  const int pred = (pa <= pb && pa <= pc) ? *a : below;
+  *a = (f + pred) & 0xff;
+  *x = static_cast<uint8_t>(*a);
+  *c = b;
+}
+
+void unfilterPaeth(const uint8_t* f, const uint8_t* b, uint8_t* x, int w) {
+  int a = 0, c = 0;
+  for (int i = 0; i < w; ++i) paethPixel(f[i], b[i], &x[i], &a, &c);
+}
+
+// kRows consecutive Paeth rows at once on a skewed front (row k one pixel behind row k - 1, whose pixel i it
+// needs as b and c): each row is a serial chain through a, and kRows independent chains keep the CPU busy.
+// Same pixels as unfilterPaeth row by row.
+constexpr int kRows = 4;
+void unfilterPaethRows(const uint8_t* const* f, const uint8_t* above, uint8_t* const* x, int w) {
+  int a[kRows] = {0}, c[kRows] = {0};
+  auto pixel = [&](int k, int i) { paethPixel(f[k][i], k ? x[k - 1][i] : above[i], &x[k][i], &a[k], &c[k]); };
+  for (int t = 0; t < kRows - 1; ++t)  // the front enters: row k starts at step k
+    for (int k = 0; k <= t; ++k) pixel(k, t - k);
+  for (int t = kRows - 1; t < w; ++t)
+    for (int k = 0; k < kRows; ++k) pixel(k, t - k);
+  for (int t = w; t < w + kRows - 1; ++t)  // and leaves: row k ends at step w - 1 + k
+    for (int k = t - w + 1; k < kRows; ++k) pixel(k, t - k);
+}
+
+bool unfilterRows(const std::vector<uint8_t>& filtered, const uint8_t* zero_row, cv::Mat* img) {
+  const int w = img->cols;
+  auto filterType = [&](int r) { return filtered[static_cast<size_t>(r) * (w + 1)]; };
+  for (int r = 0; r < img->rows;) {
+    const uint8_t* f = filtered.data() + static_cast<size_t>(r) * (w + 1) + 1;
+    const uint8_t* above = r > 0 ? img->ptr<uint8_t>(r - 1) : zero_row;
+    uint8_t* x = img->ptr<uint8_t>(r);
+    bool paeth_block = w >= kRows && r + kRows <= img->rows;
+    for (int k = 0; paeth_block && k < kRows; ++k) paeth_block = filterType(r + k) == 4;
+    if (paeth_block) {
+      const uint8_t* fs[kRows];
+      uint8_t* xs[kRows];
+      for (int k = 0; k < kRows; ++k) {
+        fs[k] = f + static_cast<size_t>(k) * (w + 1);
+        xs[k] = img->ptr<uint8_t>(r + k);
+      }
+      unfilterPaethRows(fs, above, xs, w);
+      r += kRows;
+      continue;
+    }
+    switch (filterType(r)) {
+      case 0: std::memcpy(x, f, w); break;
+      case 1: unfilterSub(f, x, w); break;
+      case 2: unfilterUp(f, above, x, w); break;
+      case 3: unfilterAverage(f, above, x, w); break;
+      case 4: unfilterPaeth(f, above, x, w); break;
+      default: return false;
+    }
+    ++r;
+  }
+  return true;
+}
+
+}  // namespace
+
+bool decodeGray8Png(const uint8_t* data, size_t size, cv::Mat* out) {
+  if (!data || size < 8 + 25 || std::memcmp(data, kSignature, 8) != 0) return false;
+  DecoderState& st = decoderState();
+  if (!st.inflater) return false;
+  st.compressed.clear();
+  int width = 0, height = 0;
+  bool have_header = false, idat_done = false, have_end = false;
+  size_t pos = 8;
+  while (!have_end) {
+    if (size - pos < 12) return false;  // truncated
+    const uint32_t len = readBigEndian32(data + pos);
+    const uint8_t* type = data + pos + 4;
+    if (len > 0x7fffffffu || size - pos - 12 < len) return false;
+    const uint8_t* body = type + 4;
+    const bool critical = chunkIs(type, "IHDR") || chunkIs(type, "IDAT") || chunkIs(type, "IEND");
+    if (critical && libdeflate_crc32(0, type, len + 4) != readBigEndian32(body + len)) return false;
+    if (!have_header) {
+      // IHDR: width, height, bit depth 8, colour type 0 (gray), compression 0, filter 0, interlace 0.
+      if (!chunkIs(type, "IHDR") || len != 13) return false;
+      const uint32_t w = readBigEndian32(body), h = readBigEndian32(body + 4);
+      if (w == 0 || h == 0 || w > INT_MAX || h > INT_MAX) return false;
+      if (body[8] != 8 || body[9] != 0 || body[10] != 0 || body[11] != 0 || body[12] != 0) return false;
+      if (uint64_t(w + 1) * h > kMaxRawBytes) return false;
+      width = static_cast<int>(w);
+      height = static_cast<int>(h);
+      have_header = true;
+    } else if (chunkIs(type, "IDAT")) {
+      if (idat_done) return false;  // IDAT chunks must be consecutive
+      st.compressed.insert(st.compressed.end(), body, body + len);
+    } else if (chunkIs(type, "IEND")) {
+      have_end = true;
+    } else if (isMetadataChunk(type)) {
+      if (!st.compressed.empty()) idat_done = true;
+    } else {
+      return false;  // palette, transparency, gamma, unknown...: OpenCV decides
+    }
+    pos += 12 + size_t(len);
+  }
+  if (st.compressed.empty()) return false;
+  const size_t raw_bytes = static_cast<size_t>(width + 1) * height;
+  st.filtered.resize(raw_bytes);
+  if (libdeflate_zlib_decompress(st.inflater, st.compressed.data(), st.compressed.size(), st.filtered.data(),
+                                 raw_bytes, nullptr) != LIBDEFLATE_SUCCESS)
+    return false;  // damaged, too short or too long: OpenCV reports or tolerates it as it does today
+  if (st.zero_row.size() < static_cast<size_t>(width)) st.zero_row.assign(width, 0);
+  cv::Mat img(height, width, CV_8UC1);
+  if (!unfilterRows(st.filtered, st.zero_row.data(), &img)) return false;
+  *out = img;
+  return true;
+}
+
+cv::Mat decodeImage(const uint8_t* data, size_t size, std::string* error) {
+  cv::Mat img;
+  if (decodeGray8Png(data, size, &img)) return img;
+  if (!data || size == 0 || size > static_cast<size_t>(INT_MAX)) return cv::Mat();
+  try {
+    const cv::Mat buf(1, static_cast<int>(size), CV_8UC1, const_cast<uint8_t*>(data));
+    img = cv::imdecode(buf, cv::IMREAD_UNCHANGED);
+  } catch (const cv::Exception& e) {
+    if (error) *error = e.what();
+    return cv::Mat();
+  }
+  return img;
+}
+
+bool readFileBytes(const std::string& path, std::vector<uint8_t>* bytes) {
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  if (!in) return false;
+  const std::streamoff n = in.tellg();
+  if (n < 0) return false;
+  bytes->resize(static_cast<size_t>(n));
+  in.seekg(0);
+  return n == 0 || static_cast<bool>(in.read(reinterpret_cast<char*>(bytes->data()), n));
+}
+
+}  // namespace iraf_vo
