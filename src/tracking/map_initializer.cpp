@@ -47,6 +47,8 @@ bool MapInitializer::initialize(Frame& cur, const MapAnchor& anchor, Map* map, K
   two_view_params.min_median_parallax_deg = p_.init_min_median_parallax_deg;
   two_view_params.min_triangulated = p_.init_min_triangulated;
   two_view_params.homography_ratio = p_.init_homography_ratio;
+  two_view_params.ambiguity_max_chi2 = p_.init_ambiguity_max_chi2;
+  two_view_params.ambiguity_angle_deg = p_.init_ambiguity_angle_deg;
   const TwoViewResult two_view = initializeTwoView(b_ref, b_cur, cam_.focal(), two_view_params);
   if (!two_view.ok) {
     last_failure_ = "ref " + std::to_string(reference_.index) + " " + std::to_string(matches.size()) +

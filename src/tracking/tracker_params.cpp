@@ -28,6 +28,8 @@ std::string validate(const TrackerParams& p) {
   if (p.init_min_parallax_points < 0) return bad("init_min_parallax_points", "must be >= 0");
   if (p.init_min_triangulated < 8) return bad("init_min_triangulated", "must be >= 8");
   if (!(p.init_homography_ratio >= 0 && p.init_homography_ratio <= 1)) return bad("init_homography_ratio", "must be in [0, 1]");
+  if (!(p.init_ambiguity_max_chi2 >= 0)) return bad("init_ambiguity_max_chi2", "must be >= 0");
+  if (!(p.init_ambiguity_angle_deg > 0 && p.init_ambiguity_angle_deg <= 90)) return bad("init_ambiguity_angle_deg", "must be in (0, 90]");
   if (!(p.init_match_ratio > 0 && p.init_match_ratio <= 1)) return bad("init_match_ratio", "must be in (0, 1]");
   if (p.match_threshold_high < 1 || p.match_threshold_high > 256) return bad("match_threshold_high", "must be in [1, 256]");
   if (p.match_threshold_low < 1 || p.match_threshold_low > 256) return bad("match_threshold_low", "must be in [1, 256]");

@@ -22,6 +22,11 @@ const ParamTable<TrackerParams>& trackerParamTable() {
           intParam("init_min_triangulated", &P::init_min_triangulated, 8, 10000, "Points the initial map needs"),
           doubleParam("init_homography_ratio", &P::init_homography_ratio, 0.0, 1.0,
                       "R_H = S_H / (S_H + S_F) above this -> homography (ORB-SLAM 0.45)"),
+          doubleParam("init_ambiguity_max_chi2", &P::init_ambiguity_max_chi2, 0.0, 1000.0,
+                      "Essential-matrix init refused while a translation >= init_ambiguity_angle_deg away has a "
+                      "profile chi2 below this (noise units; 0 = no check)"),
+          doubleParam("init_ambiguity_angle_deg", &P::init_ambiguity_angle_deg, 1.0, 90.0,
+                      "Translation directions this far from the chosen one count as another motion [deg]"),
           doubleParam("init_match_ratio", &P::init_match_ratio, 0.1, 1.0, "Lowe ratio of the initialization matching"),
           intParam("match_threshold_high", &P::match_threshold_high, 1, 256,
                    "Hamming threshold of the projection search (ORB-SLAM TH_HIGH)"),

@@ -1,6 +1,7 @@
 // Two-view initialization (geometry.h): E and H by RANSAC, ORB-SLAM model selection and scores, decomposition
 // into (R, t) hypotheses checked by triangulation, and a two-view BA. ROS-free.
 #include <iraf_vo/tracking/geometry.h>
+#include <iraf_vo/tracking/two_view_ambiguity.h>
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
@@ -303,6 +304,23 @@ void refineTwoView(const Hypothesis& best, const ForwardMatches& m, double focal
   }
 }
 
+// A planar scene leaves E undetermined (any translation fits), so only essential-matrix motions are checked.
+void checkTranslationAmbiguity(const ForwardMatches& m, double focal, const TwoViewParams& params,
+                               TwoViewResult* res) {
+  MotionAmbiguityParams ap;
+  ap.sigma_px = params.threshold_px;
+  ap.min_angle_deg = params.ambiguity_angle_deg;
+  ap.max_delta_chi2 = params.ambiguity_max_chi2;
+  const MotionAmbiguity a = findTranslationAmbiguity(m.p1, m.p2, res->R_21, res->t_21, focal, ap);
+  res->translation_profile_chi2 = a.profile_chi2;
+  if (!a.ambiguous) return;
+  res->ok = false;
+  char buf[160];
+  std::snprintf(buf, sizeof(buf), "essential: translation not determined (a direction %.0f deg away: profile chi2 %.1f < %.2f)",
+                a.angle_deg, a.profile_chi2, params.ambiguity_max_chi2);
+  res->reason = buf;
+}
+
 }  // namespace
 
 TwoViewResult initializeTwoView(const std::vector<Eigen::Vector3d>& b1, const std::vector<Eigen::Vector3d>& b2,
@@ -346,6 +364,7 @@ TwoViewResult initializeTwoView(const std::vector<Eigen::Vector3d>& b1, const st
     }
   }
   if (best) refineTwoView(*best, m, focal, params, &res);
+  if (res.ok && res.model == "essential" && params.ambiguity_max_chi2 > 0.0) checkTranslationAmbiguity(m, focal, params, &res);
   if (!res.ok) {
     char buf[96];
     std::snprintf(buf, sizeof(buf), " [R_H %.2f; inliers E %d H %d]", rh,

@@ -50,6 +50,10 @@ struct TwoViewParams {
   double homography_ratio = 0.45;  // R_H = S_H / (S_H + S_F) above this -> homography (ORB-SLAM)
   double model_fallback_margin = 0.1;  // |R_H - homography_ratio| below this and the chosen model fails its
                                        // checks -> the other model is tried (0 = never)
+  // Essential-matrix motions: refused while a translation direction >= ambiguity_angle_deg away explains the
+  // matches about as well (profile chi2 < ambiguity_max_chi2, two_view_ambiguity.h); 0 = no check.
+  double ambiguity_max_chi2 = 9.21;
+  double ambiguity_angle_deg = 20.0;
 };
 
 struct TwoViewResult {
@@ -64,6 +68,7 @@ struct TwoViewResult {
   double median_parallax_deg = 0.0;
   double parallax_deg = 0.0;       // the tested parallax (min_parallax_points-th largest, or the median)
   double score_h = 0.0, score_f = 0.0;
+  double translation_profile_chi2 = -1.0;  // the ambiguity check's value (-1: not run)
 };
 
 /// Relative pose + structure from matched bearings (b1[i] <-> b2[i]). Uses cv::findEssentialMat and

@@ -22,6 +22,9 @@ struct TrackerParams {
                                               // scene after 6 cm at 4-10 m showed 0.95 deg, E 0.2: wrong map)
   int init_min_triangulated = 60;
   double init_homography_ratio = 0.45;  // R_H threshold (ORB-SLAM)
+  double init_ambiguity_max_chi2 = 9.21;  // translation-direction check of E inits (two_view_ambiguity.h): refused
+  double init_ambiguity_angle_deg = 20.0; // while a direction this far away has a profile chi2 below 9.21 (99 %,
+                                          // 2 dof, in units of the estimated noise); 0 = no check
   double init_match_ratio = 0.8;        // Lowe ratio of the initialization matching
   // ---- matching ----
   int match_threshold_high = 100;       // Hamming, projection search (ORB-SLAM TH_HIGH)
