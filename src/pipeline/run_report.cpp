@@ -57,6 +57,7 @@ void RunRecorder::add(const FrontEndItem& it, const TrackResult& r, long process
   ms_["track_keyframe"].push_back(r.timing.ms_keyframe);
   if (r.timing.ms_init > 0) ms_["track_init"].push_back(r.timing.ms_init);
   if (r.state == TrackingState::kTracking) trajectory_.push_back(it.frame.stamp, r.T_w_c);
+  anchored_.addFrame(it.frame.stamp, r);
   if (processed % 500 == 0) rss_.emplace_back(processed, rssMiB());
 }
 
@@ -92,6 +93,9 @@ std::string RunRecorder::summary(const RunTotals& t) const {
   if (t.have_ate)
     s << "ATE (Sim3) RMSE " << t.ate.ate.rmse << " m, median " << t.ate.ate.median << " m, max " << t.ate.ate.max
       << " m over " << t.ate.n_matched << " poses (scale " << t.ate.scale << ", GT path " << t.ate.gt_length << " m)\n";
+  if (t.have_ate && t.have_ate_final)
+    s << "ATE after mapping (poses re-attached to their BA-refined keyframes, --out-final): RMSE "
+      << t.ate_final.ate.rmse << " m, median " << t.ate_final.ate.median << " m\n";
   else if (t.ate_requested)
     s << "ATE: not computed: " << t.ate_error << "\n";
   return s.str();
@@ -124,6 +128,7 @@ bool RunRecorder::writeJson(const std::string& path, const RunTotals& t, std::st
   if (t.have_ate)
     js << ",\n  \"ate_rmse\": " << t.ate.ate.rmse << ",\n  \"ate_median\": " << t.ate.ate.median
        << ",\n  \"ate_scale\": " << t.ate.scale << ",\n  \"ate_matched\": " << t.ate.n_matched;
+  if (t.have_ate_final) js << ",\n  \"ate_final_rmse\": " << t.ate_final.ate.rmse;
   js << "\n}\n";
   return true;
 }

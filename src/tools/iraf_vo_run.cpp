@@ -30,7 +30,7 @@ void usage(FILE* f) {
       "                   [--mode iraf|baseline|enhance|adaptive|culling|he|clahe] [--gt GT] [--stats stats.json]\n"
       "                   [--config params.yaml] [--first N] [--frames N] [--set section.key=value] [--frame-log F] "
       "[--quiet]\n"
-      "                   [--no-resolution-rule]\n"
+      "                   [--no-resolution-rule] [--out-final traj_final.txt]\n"
       "  --dataset  ASL folder (DIR/mav0/cam0/data.csv) or a rosbag (.bag, needs --topic)\n"
       "  --camera   camera yaml (default: the ASL folder's mav0/cam0/sensor.yaml)\n"
       "  --mode     iraf = enhancement + adaptive threshold + culling (default); baseline = all off;\n"
@@ -44,11 +44,15 @@ void usage(FILE* f) {
       "  --set      override one parameter, e.g. --set tracker.ba_window_size=12 (after --mode / --config)\n"
       "  --no-resolution-rule  keep the 752x480 defaults of the size-dependent fields (n_features, cell_size,\n"
       "             n_levels, search radii, init counts); default: derive the ones not given by --config / --set\n"
-      "             from the camera (pipeline_params.h, README)\n");
+      "             from the camera (pipeline_params.h, README)\n"
+      "  --out-final the trajectory after mapping: each tracked pose re-attached to its reference keyframe's\n"
+      "             final (BA-refined) pose, as ORB-SLAM / DSO result files are; --out keeps the poses as\n"
+      "             published at each frame. With --gt both ATEs are printed.\n");
 }
 
 struct Args {
-  std::string dataset, topic, camera_path, out, mode = "iraf", gt_path, stats_path, config_path, frame_log_path;
+  std::string dataset, topic, camera_path, out, mode = "iraf", gt_path, stats_path, config_path, frame_log_path,
+      out_final;
   long first = 0, max_frames = -1;
   bool quiet = false, no_resolution_rule = false;
   std::vector<std::string> sets;
@@ -67,6 +71,7 @@ int parseArgs(int argc, char** argv, Args* a) {
                         : k == "--stats"     ? &a->stats_path
                         : k == "--config"    ? &a->config_path
                         : k == "--frame-log" ? &a->frame_log_path
+                        : k == "--out-final" ? &a->out_final
                                              : nullptr;
     const bool takes_value = text || k == "--set" || k == "--first" || k == "--frames";
     if (k == "-h" || k == "--help") return usage(stdout), 0;
@@ -219,6 +224,7 @@ int main(int argc, char** argv) {
       } else {
         const iraf_vo::TrackResult r = tracker.track(it.frame);
         recorder.add(it, r, totals.processed);
+        if (r.is_keyframe) recorder.updateKeyframes(tracker.keyframePoses());  // BA results arrive at keyframes
         if (!a.quiet)
           iraf_vo::printProgress(stderr, tty, totals.processed, n_run, 1e-3 * iraf_vo::msSince(t_start), r,
                                  it.frame.keypoints.size());
@@ -226,6 +232,7 @@ int main(int argc, char** argv) {
     }
   }  // stops and joins the pipeline threads
   tracker.waitForMapping();
+  recorder.updateKeyframes(tracker.keyframePoses());
   if (fatal) return 1;
   const std::string skipped = S_ISDIR(ds.st_mode) ? asl.skippedSummary() : bag.skippedSummary();
   if (!skipped.empty()) std::fprintf(stderr, "iraf_vo_run: %s\n", skipped.c_str());
@@ -238,6 +245,9 @@ int main(int argc, char** argv) {
 
   if (!iraf_vo::writeTumTrajectory(a.out, recorder.trajectory(), &err))
     return std::fprintf(stderr, "iraf_vo_run: --out %s: %s\n", a.out.c_str(), err.c_str()), 1;
+  const iraf_vo::Trajectory final_trajectory = recorder.finalTrajectory();
+  if (!a.out_final.empty() && !iraf_vo::writeTumTrajectory(a.out_final, final_trajectory, &err))
+    return std::fprintf(stderr, "iraf_vo_run: --out-final %s: %s\n", a.out_final.c_str(), err.c_str()), 1;
   totals.dataset = a.dataset;
   totals.mode = a.mode;
   totals.stats = tracker.stats();
@@ -248,6 +258,8 @@ int main(int argc, char** argv) {
     iraf_vo::EvalParams evp;
     evp.align = iraf_vo::AlignMode::kSim3;
     totals.have_ate = iraf_vo::evaluateTrajectory(gt, recorder.trajectory(), evp, &totals.ate, &totals.ate_error);
+    std::string final_error;
+    totals.have_ate_final = iraf_vo::evaluateTrajectory(gt, final_trajectory, evp, &totals.ate_final, &final_error);
   }
   std::fprintf(stdout, "%s", recorder.summary(totals).c_str());
   if (!a.stats_path.empty() && !recorder.writeJson(a.stats_path, totals, &err))

@@ -319,6 +319,8 @@ void Tracker::Impl::onTracked(const Frame& cur, TrackResult* res, bool is_keyfra
   Eigen::Isometry3d T_kf;
   last_ref_kf = map.keyframePose(last_kf_id, &T_kf) ? last_kf_id : -1;
   T_last_rel_kf = last_ref_kf >= 0 ? cur.T_c_w * T_kf.inverse() : Eigen::Isometry3d::Identity();
+  res->reference_keyframe_id = last_ref_kf;
+  res->T_kf_c = T_last_rel_kf.inverse();
   updateStats([](TrackerStats& s) { s.tracked++; });
 }
 

@@ -5,6 +5,7 @@
 #include <Eigen/Eigenvalues>
 #include <cmath>
 
+#include "iraf_vo/pipeline/anchored_trajectory.h"
 #include "iraf_vo/pipeline/odometry_output.h"
 #include "iraf_vo/pipeline/run_monitor.h"
 
@@ -175,4 +176,36 @@ TEST(RunMonitor, RatesThrottleAndHealth) {
   h = m.health("", "pinhole", SessionCounters(), 0.3);
   EXPECT_EQ(h.level, HealthReport::kOk) << h.summary;
   EXPECT_NE(m.statusLine(step, 0.3).find("missed 2"), std::string::npos) << m.statusLine(step, 0.3);
+}
+
+// The trajectory after mapping: a frame follows its reference keyframe's later (BA-refined) pose; frames without a
+// known keyframe keep their online pose; lost frames are not in it.
+TEST(KeyframeAnchoredTrajectory, FramesFollowTheirKeyframesRefinedPose) {
+  iraf_vo::KeyframeAnchoredTrajectory traj;
+  iraf_vo::TrackResult r;
+  r.state = iraf_vo::TrackingState::kTracking;
+  r.reference_keyframe_id = 7;
+  r.T_kf_c = Eigen::Isometry3d(Eigen::Translation3d(0.1, 0, 0));
+  r.T_w_c = Eigen::Isometry3d(Eigen::Translation3d(1.1, 0, 0));  // keyframe 7 at x = 1 when tracked
+  traj.addFrame(1.0, r);
+  iraf_vo::TrackResult lost = r;
+  lost.state = iraf_vo::TrackingState::kLost;
+  traj.addFrame(2.0, lost);
+  iraf_vo::TrackResult orphan = r;
+  orphan.reference_keyframe_id = 99;
+  orphan.T_w_c = Eigen::Isometry3d(Eigen::Translation3d(5, 0, 0));
+  traj.addFrame(3.0, orphan);
+  iraf_vo::KeyframePose k;
+  k.id = 7;
+  k.T_w_c = Eigen::Isometry3d(Eigen::Translation3d(1, 0, 0));
+  traj.updateKeyframes({k});
+  k.T_w_c = Eigen::Isometry3d(Eigen::Translation3d(2, 1, 0));  // BA moved it; later the keyframe left the map
+  traj.updateKeyframes({k});
+  traj.updateKeyframes({});
+  const iraf_vo::Trajectory t = traj.build();
+  ASSERT_EQ(t.size(), 2u);
+  EXPECT_DOUBLE_EQ(t.stamps[0], 1.0);
+  EXPECT_LT((t.poses[0].translation() - Eigen::Vector3d(2.1, 1, 0)).norm(), 1e-12);
+  EXPECT_DOUBLE_EQ(t.stamps[1], 3.0);
+  EXPECT_LT((t.poses[1].translation() - Eigen::Vector3d(5, 0, 0)).norm(), 1e-12);
 }

@@ -11,6 +11,7 @@
 
 #include "iraf_vo/eval/trajectory_eval.h"
 #include "iraf_vo/io/trajectory.h"
+#include "iraf_vo/pipeline/anchored_trajectory.h"
 #include "iraf_vo/pipeline/offline_pipeline.h"
 #include "iraf_vo/tracking/tracker.h"
 
@@ -35,6 +36,8 @@ struct RunTotals {
   EvalResult ate;
   std::string ate_error;  // when --gt was given but the ATE could not be computed
   bool ate_requested = false;
+  bool have_ate_final = false;  // of the trajectory after mapping (KeyframeAnchoredTrajectory)
+  EvalResult ate_final;
 };
 
 class RunRecorder {
@@ -45,6 +48,9 @@ class RunRecorder {
   void add(const FrontEndItem& item, const TrackResult& r, long processed);
 
   const Trajectory& trajectory() const { return trajectory_; }
+  /// Keyframe poses for the trajectory after mapping (call with Tracker::keyframePoses()).
+  void updateKeyframes(const std::vector<KeyframePose>& keyframes) { anchored_.updateKeyframes(keyframes); }
+  Trajectory finalTrajectory() const { return anchored_.build(); }
   /// "frames N, tracked ..." + per-stage table + RSS + ATE, as iraf_vo_run prints it.
   std::string summary(const RunTotals& t) const;
   /// The stats JSON. false + *error naming the path.
@@ -58,6 +64,7 @@ class RunRecorder {
   std::map<std::string, std::vector<double>> ms_;
   std::vector<std::pair<long, double>> rss_;  // (frames processed, MiB)
   Trajectory trajectory_;
+  KeyframeAnchoredTrajectory anchored_;
 };
 
 /// The progress line on a terminal ("\r[####....] n/N fps state kps inl") or, without one, a line every 100 frames.

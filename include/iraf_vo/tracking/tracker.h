@@ -64,6 +64,11 @@ struct TrackResult {
   bool is_keyframe = false;
   bool initialized_now = false;  // this frame completed a (re-)initialization
   bool used_pnp = false;
+  /// The keyframe this pose is measured against and the pose in it (T_w_c = T_w_kf * T_kf_c at tracking time;
+  /// valid when state == kTracking): re-attached to the keyframe's later, BA-refined pose this gives the
+  /// trajectory after mapping (KeyframeAnchoredTrajectory).
+  long reference_keyframe_id = -1;
+  Eigen::Isometry3d T_kf_c = Eigen::Isometry3d::Identity();
   std::vector<char> keypoint_inlier;  // per input keypoint: 1 = matched to a map point and a pose inlier
   /// Covariance of T_w_c in the world frame, [x y z rx ry rz] (map units, radians), from the pose refinement's
   /// information matrix with sigma = scale_factor^octave px per keypoint (valid when state == kTracking).
