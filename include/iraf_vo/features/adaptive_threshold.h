@@ -36,6 +36,9 @@ inline double globalThreshold(double f_h, double f_g, double alpha, double beta)
 /// sigma_c^2(t) = (mu_T P_t(t) - mu_t(t))^2 / (P_t(t) (1 - P_t(t))). Pixels <= t_o form the lower class.
 /// For an empty or single-valued histogram returns that value (or 0).
 int otsuThreshold(const Histogram256& h);
+/// The same t_o by one sequential scan over every t (the definition; otsuThreshold evaluates sigma_c^2 with
+/// SIMD and rescans only near its maximum, bit-identical results, test AdaptiveThreshold.OtsuEqualsReference).
+int otsuThresholdReference(const Histogram256& h);
 
 /// eq. (19): F_t^l = delta * |I_m - t_o|.
 inline double localThreshold(double i_m, double t_o, double delta) { return delta * std::abs(i_m - t_o); }
