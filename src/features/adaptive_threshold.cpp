@@ -192,17 +192,26 @@ struct OtsuScan {
 }  // namespace
 
 int otsuThreshold(const Histogram256& h) {
-  int lo = 0, hi = 255;
+  // lo / hi = first / last non-empty bin (4 bins at a time, then within the vector).
+  int lo = 0, hi = 252;
+#if CV_SIMD128
+  const cv::v_uint32x4 zero = cv::v_setzero_u32();
+  while (lo < 256 && !cv::v_check_any(cv::v_load(h.data() + lo) != zero)) lo += 4;
+  if (lo == 256) return 0;  // empty
+  while (!cv::v_check_any(cv::v_load(h.data() + hi) != zero)) hi -= 4;
+#endif
   while (lo < 256 && h[lo] == 0) ++lo;
   if (lo == 256) return 0;  // empty
+  hi += 3;
   while (h[hi] == 0) --hi;
   if (lo == hi) return lo;  // single-valued: no split exists
   // Class sums: w0(t) = pixels <= t, s0(t) = their intensity sum, for t = lo .. hi (int32 below n = 4e6).
   alignas(16) int32_t w0[260], s0[260];
-  int64_t w = 0, s = 0;
+  uint64_t w = 0;
+  uint32_t s = 0;  // no wrap-around while n <= 4e6 (s <= 255 n)
   for (int t = lo; t <= hi; ++t) {
     w += h[t];
-    s += static_cast<int64_t>(t) * h[t];
+    s += static_cast<uint32_t>(t) * h[t];
     w0[t - lo] = static_cast<int32_t>(w);
     s0[t - lo] = static_cast<int32_t>(s);
   }
