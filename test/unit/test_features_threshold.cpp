@@ -107,3 +107,33 @@ TEST(AdaptiveThreshold, OtsuEqualsReference) {
   }
   RecordProperty("histograms", checked);
 }
+
+TEST(AdaptiveThreshold, GradientKernelsEqualReferenceBitForBit) {
+  // F_g feeds F_t^g (eq. 15), the upper clip of every cell threshold: the AVX2 and the baseline row kernels must
+  // both give meanGradientMagnitudeReference's double exactly, for every row length (vector steps and tails).
+  cv::RNG rng(21);
+  std::vector<cv::Mat> images;
+  for (int cols = 1; cols <= 80; ++cols) {
+    cv::Mat img(rng.uniform(1, 12), cols + 2, CV_8U);
+    rng.fill(img, cv::RNG::UNIFORM, 0, 256);
+    if (cols % 3 == 0) cv::GaussianBlur(img, img, cv::Size(3, 3), 0);
+    images.push_back(img.colRange(1, cols + 1));  // non-contiguous rows
+  }
+  for (int index : {0, 300}) {
+    const cv::Mat real = iraf_vo_test::eurocFrame(index);
+    if (!real.empty()) images.push_back(real);
+  }
+  cv::Mat big(480, 752, CV_8U);
+  rng.fill(big, cv::RNG::UNIFORM, 0, 256);
+  images.push_back(big);
+  const bool had_avx2 = gradientUseAvx2(true);
+  for (bool avx2 : {true, false}) {
+    if (avx2 && !had_avx2) continue;  // CPU without AVX2: the baseline kernel only
+    gradientUseAvx2(avx2);
+    cv::Mat scratch;
+    for (const cv::Mat& img : images)
+      ASSERT_EQ(meanGradientMagnitude(img, &scratch), meanGradientMagnitudeReference(img))
+          << img.size() << (avx2 ? " avx2" : " baseline");
+  }
+  gradientUseAvx2(true);
+}

@@ -28,6 +28,9 @@ double meanGradientMagnitude(const cv::Mat& gray, cv::Mat* sobel_rows);
 double meanGradientMagnitude(const cv::Mat& gray);
 /// The same F_g from cv::spatialGradient's planes (the reference of the row-wise Sobel above, for tests).
 double meanGradientMagnitudeReference(const cv::Mat& gray);
+/// meanGradientMagnitude's row kernel: AVX2 (16 pixels per step, where the CPU has it; the default) or the
+/// baseline SIMD build. Both give the same F_g bit for bit; for tests. Returns whether AVX2 is now in use.
+bool gradientUseAvx2(bool allowed);
 
 /// eq. (15): F_t^g = alpha * F_h + beta * F_g.
 inline double globalThreshold(double f_h, double f_g, double alpha, double beta) { return alpha * f_h + beta * f_g; }
