@@ -71,103 +71,63 @@ double meanGradientMagnitudeReference(const cv::Mat& gray) {
   return sum / (static_cast<double>(gray.rows) * gray.cols);
 }
 
+namespace gradient_baseline {
+#include "gradient_row.inl"
+}  // namespace gradient_baseline
+
+#if defined(IRAF_VO_AVX2_KERNELS)
+namespace gradient_avx2 {
+float rowSum(const uint8_t* up, const uint8_t* mid, const uint8_t* dn, int cols, int16_t* s, int16_t* e, int16_t* gx,
+             int16_t* gy);
+}  // namespace gradient_avx2
+#endif
+
+namespace {
+
+using GradientRowFn = float (*)(const uint8_t*, const uint8_t*, const uint8_t*, int, int16_t*, int16_t*, int16_t*,
+                                int16_t*);
+
+// The row kernel for this CPU: AVX2 where available, else the baseline build. Same float sums either way.
+GradientRowFn pickGradientRow(bool avx2_allowed) {
+#if defined(IRAF_VO_AVX2_KERNELS)
+  if (avx2_allowed && __builtin_cpu_supports("avx2")) return gradient_avx2::rowSum;
+#endif
+  (void)avx2_allowed;
+  return gradient_baseline::sobelRowMagnitudeSum;
+}
+
+GradientRowFn g_gradient_row = pickGradientRow(true);
+
+}  // namespace
+
+bool gradientUseAvx2(bool allowed) {
+  g_gradient_row = pickGradientRow(allowed);
+  return g_gradient_row != gradient_baseline::sobelRowMagnitudeSum;
+}
+
 double meanGradientMagnitude(const cv::Mat& gray, cv::Mat* sobel_rows) {
   CV_Assert(gray.type() == CV_8UC1);
   if (gray.empty()) return 0.0;
   // eq. (14): I_x, I_y by 3x3 Sobel (replicated border); F_g = mean sqrt(I_x^2 + I_y^2). The Sobel rows are
-  // computed here one at a time (separable: column sums s = U + 2M + D and differences e = D - U of the rows
-  // above / at / below, then I_x = s(c+1) - s(c-1), I_y = e(c-1) + 2 e(c) + e(c+1)): the same integers as
-  // cv::spatialGradient and the same float sums as meanGradientMagnitudeReference, without two image-sized
-  // int16 planes.
+  // computed here one at a time (gradient_row.inl): the same integers as cv::spatialGradient and the same float
+  // sums as meanGradientMagnitudeReference, without two image-sized int16 planes.
   const int rows = gray.rows, cols = gray.cols;
   sobel_rows->create(4, cols + 2, CV_16S);  // rows: s, e (with one replicated column each side), I_x, I_y
   int16_t* s = sobel_rows->ptr<int16_t>(0);
   int16_t* e = sobel_rows->ptr<int16_t>(1);
   int16_t* gx = sobel_rows->ptr<int16_t>(2);
   int16_t* gy = sobel_rows->ptr<int16_t>(3);
+  const GradientRowFn row_sum = g_gradient_row;
   double sum = 0.0;
-  for (int r = 0; r < rows; ++r) {
-    const uint8_t* up = gray.ptr<uint8_t>(std::max(r - 1, 0));
-    const uint8_t* mid = gray.ptr<uint8_t>(r);
-    const uint8_t* dn = gray.ptr<uint8_t>(std::min(r + 1, rows - 1));
-    int c = 0;
-#if CV_SIMD128
-    for (; c + 16 <= cols; c += 16) {
-      cv::v_uint16x8 u0, u1, m0, m1, d0, d1;
-      cv::v_expand(cv::v_load(up + c), u0, u1);
-      cv::v_expand(cv::v_load(mid + c), m0, m1);
-      cv::v_expand(cv::v_load(dn + c), d0, d1);
-      cv::v_store(s + c + 1, cv::v_reinterpret_as_s16(u0 + m0 + m0 + d0));
-      cv::v_store(s + c + 9, cv::v_reinterpret_as_s16(u1 + m1 + m1 + d1));
-      cv::v_store(e + c + 1, cv::v_reinterpret_as_s16(d0) - cv::v_reinterpret_as_s16(u0));
-      cv::v_store(e + c + 9, cv::v_reinterpret_as_s16(d1) - cv::v_reinterpret_as_s16(u1));
-    }
-#endif
-    for (; c < cols; ++c) {
-      s[c + 1] = static_cast<int16_t>(up[c] + 2 * mid[c] + dn[c]);
-      e[c + 1] = static_cast<int16_t>(dn[c] - up[c]);
-    }
-    s[0] = s[1];
-    e[0] = e[1];
-    s[cols + 1] = s[cols];
-    e[cols + 1] = e[cols];
-    c = 0;
-#if CV_SIMD128
-    for (; c + 8 <= cols; c += 8) {
-      const cv::v_int16x8 e1 = cv::v_load(e + c + 1);
-      cv::v_store(gx + c, cv::v_load(s + c + 2) - cv::v_load(s + c));
-      cv::v_store(gy + c, cv::v_load(e + c) + e1 + e1 + cv::v_load(e + c + 2));
-    }
-#endif
-    for (; c < cols; ++c) {
-      gx[c] = static_cast<int16_t>(s[c + 2] - s[c]);
-      gy[c] = static_cast<int16_t>(e[c] + 2 * e[c + 1] + e[c + 2]);
-    }
-    sum += rowMagnitudeSum(gx, gy, cols);
-  }
+  for (int r = 0; r < rows; ++r)
+    sum += row_sum(gray.ptr<uint8_t>(std::max(r - 1, 0)), gray.ptr<uint8_t>(r), gray.ptr<uint8_t>(std::min(r + 1, rows - 1)),
+                   cols, s, e, gx, gy);
   return sum / (static_cast<double>(rows) * cols);
 }
 
 double meanGradientMagnitude(const cv::Mat& gray) {
   cv::Mat sobel_rows;
   return meanGradientMagnitude(gray, &sobel_rows);
-}
-
-int otsuThreshold(const Histogram256& h) {
-  // N = number of pixels, S = sum of intensities (mu_T = S / N); lo / hi = first / last non-empty bin.
-  // Branch-free sums: cells have ~1000 pixels spread over unpredictable bins.
-  int lo = 0, hi = 255;
-  while (lo < 256 && h[lo] == 0) ++lo;
-  if (lo == 256) return 0;  // empty
-  while (h[hi] == 0) --hi;
-  int64_t n = 0, sum_t = 0;  // over [lo, hi] = over all bins
-  for (int i = lo; i <= hi; ++i) {
-    n += h[i];
-    sum_t += static_cast<int64_t>(i) * h[i];
-  }
-  if (lo == hi) return lo;  // single-valued: no split exists
-  // eq. (16) with P_t = w0 / N and mu_t = s0 / N (w0 = pixels <= t, s0 = their intensity sum):
-  //   sigma_c^2(t) = (mu_T P_t - mu_t)^2 / (P_t (1 - P_t)) = (S w0 - N s0)^2 / (N^2 w0 (N - w0)).
-  // N^2 is constant, so argmax compares num2 / den with num2 = (S w0 - N s0)^2, den = w0 (N - w0)
-  // by cross-multiplication (no division). Bins outside [lo, hi] leave one class empty and are skipped.
-  int64_t w0 = 0, s0 = 0;
-  double best_num2 = -1.0, best_den = 1.0;
-  int t_o = lo, t_last = lo;
-  for (int t = lo; t < hi; ++t) {
-    w0 += h[t];
-    s0 += static_cast<int64_t>(t) * h[t];
-    const double num = static_cast<double>(sum_t * w0 - n * s0);
-    const double num2 = num * num, den = static_cast<double>(w0 * (n - w0));
-    const double lhs = num2 * best_den, rhs = best_num2 * den;
-    if (lhs > rhs * (1.0 + 1e-12)) {  // eq. (17): t_o = argmax_t sigma_c^2(t)
-      best_num2 = num2;
-      best_den = den;
-      t_o = t_last = t;
-    } else if (t_last == t - 1 && lhs >= rhs * (1.0 - 1e-12)) {
-      t_last = t;  // flat maximum (empty bins between the classes): take its middle
-    }
-  }
-  return (t_o + t_last) / 2;
 }
 
 void CellThresholdEstimator::measureCells(const cv::Mat& img, const CellGrid& g, int center_window,

@@ -172,22 +172,33 @@ void CellFastDetector::scanStripAndRuns(const cv::Mat& strip, const CellGrid& g,
     kp.pt.x += g.min_border;
     kp.pt.y += ini_y;
   }
-  // Candidates in the reference's order: the strip call's corners (row-major), then each run's.
-  for (const cv::KeyPoint& kp : strip_kps_) {
+  // Candidates in the reference's order: the strip call's corners (row-major), then each run's (row-major).
+  // A run's detection columns are exactly those of its cells, so one pass sorts each corner by its cell:
+  // a cell at or above T_s (strip call) or a run's cell (kept aside for that run).
+  run_of_cell_.assign(g.n_cols, -1);
+  for (size_t r = 0; r < runs_.size(); ++r)
+    for (int j = runs_[r].j0; j <= runs_[r].j1; ++j) run_of_cell_[j] = static_cast<int>(r);
+  if (run_kps_.size() < runs_.size()) run_kps_.resize(runs_.size());
+  for (size_t r = 0; r < runs_.size(); ++r) run_kps_[r].clear();
+  for (int k = 0; k < static_cast<int>(strip_kps_.size()); ++k) {
+    const cv::KeyPoint& kp = strip_kps_[k];
     const int j = cell_of_col_[static_cast<int>(kp.pt.x) - g.min_border];  // = g.colOf(kp.pt.x)
-    if (cell_th_[j] < t_strip || kp.response < cell_th_[j]) continue;
-    candidates->push_back(kp);
-    candidates->back().class_id = cell_th_[j];
-    ++cell_count_[j];
-  }
-  for (const Run& r : runs_) {
-    for (const cv::KeyPoint& kp : strip_kps_) {
-      if (kp.pt.x < r.x_begin || kp.pt.x >= r.x_end) continue;
-      const int jj = cell_of_col_[static_cast<int>(kp.pt.x) - g.min_border];  // within j0 .. j1
-      if (kp.response < cell_th_[jj]) continue;
+    if (kp.response < cell_th_[j]) continue;
+    if (cell_th_[j] >= t_strip) {
       candidates->push_back(kp);
-      candidates->back().class_id = cell_th_[jj];
-      ++cell_count_[jj];
+      candidates->back().class_id = cell_th_[j];
+      ++cell_count_[j];
+    } else if (run_of_cell_[j] >= 0) {
+      run_kps_[run_of_cell_[j]].push_back(k);
+    }
+  }
+  for (size_t r = 0; r < runs_.size(); ++r) {
+    for (int k : run_kps_[r]) {
+      const cv::KeyPoint& kp = strip_kps_[k];
+      const int j = cell_of_col_[static_cast<int>(kp.pt.x) - g.min_border];
+      candidates->push_back(kp);
+      candidates->back().class_id = cell_th_[j];
+      ++cell_count_[j];
     }
   }
 }

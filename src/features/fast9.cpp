@@ -22,6 +22,7 @@ namespace {
 constexpr int kCircle[16][2] = {{0, 3},  {1, 3},   {2, 2},   {3, 1},   {3, 0},  {3, -1}, {2, -2}, {1, -3},
                                 {0, -3}, {-1, -3}, {-2, -2}, {-3, -1}, {-3, 0}, {-3, 1}, {-2, 2}, {-1, 3}};
 constexpr int kRingSize = 25;  // 16 + 9: every arc of 9 is a plain window
+constexpr int kRows = 4;       // score rows kept (Fast9Buffers)
 
 struct RowKernels {
   int (*corners)(const uint8_t*, const int*, const uint8_t*, int, uint8_t*, int*);
@@ -58,40 +59,45 @@ void detectFast9(const cv::Mat& img, const uint8_t* th, std::vector<cv::KeyPoint
   const int step = static_cast<int>(img.step1());
   for (int k = 0; k < 16; ++k) off[k] = kCircle[k][0] + kCircle[k][1] * step;
   for (int k = 16; k < kRingSize; ++k) off[k] = off[k - 16];
-  int n_corners[3] = {0, 0, 0};
-  for (int r = 0; r < 3; ++r) {
+  // Score rows in a ring of 4: row i is scanned, then row i - 2 is suppressed against rows i - 3 .. i - 1, so
+  // non-max suppression never reads the row whose corner scores were just stored byte by byte (those loads
+  // would wait for the stores). Rows 2 and rows - 3 are all zero (no corners), as cv::FAST's borders.
+  int n_corners[kRows] = {0, 0, 0, 0};
+  for (int r = 0; r < kRows; ++r) {
     b->score[r].assign(cols, 0);
     b->corners[r].resize(cols);
   }
-  for (int i = 3; i < rows - 2; ++i) {
-    uint8_t* curr = b->score[i % 3].data();
-    int* pos = b->corners[i % 3].data();
+  for (int i = 3; i <= rows - 2; ++i) {
+    uint8_t* curr = b->score[i % kRows].data();
+    int* pos = b->corners[i % kRows].data();
     std::memset(curr, 0, cols);
     int nc = 0;
     if (i < rows - 3) nc = kernels.corners(img.ptr<uint8_t>(i), off, th, cols, curr, pos);
-    n_corners[i % 3] = nc;
-    if (i == 3 || n_corners[(i - 1) % 3] == 0) continue;
-    // Non-max suppression of row i - 1 against rows i - 2 .. i (non-corners have score 0).
-    const uint8_t* prev = b->score[(i - 1) % 3].data();
-    const uint8_t* pprev = b->score[(i - 2) % 3].data();
-    int* kept = b->corners[(i - 1) % 3].data();  // its corner list is no longer needed
+    n_corners[i % kRows] = nc;
+    const int j = i - 2;  // the row to suppress
+    if (j < 3 || n_corners[j % kRows] == 0) continue;
+    // Non-max suppression of row j against rows j - 1 .. j + 1 (non-corners have score 0).
+    const uint8_t* prev = b->score[j % kRows].data();
+    const uint8_t* pprev = b->score[(j - 1) % kRows].data();
+    const uint8_t* next = b->score[(j + 1) % kRows].data();
+    int* kept = b->corners[j % kRows].data();  // its corner list is no longer needed
     int n_kept = 0;
-    const int n_prev = n_corners[(i - 1) % 3];
+    const int n_prev = n_corners[j % kRows];
     if (n_prev * 24 < cols) {  // few corners: test each (its list is ascending) rather than every column
       for (int k = 0; k < n_prev; ++k) {
-        const int j = kept[k];
-        const uint8_t s = prev[j];
-        if (!(s > pprev[j] && s > curr[j])) continue;
-        const int w = walls ? walls[j] : 0;
-        if (((w & kWallLeft) || (s > prev[j - 1] && s > pprev[j - 1] && s > curr[j - 1])) &&
-            ((w & kWallRight) || (s > prev[j + 1] && s > pprev[j + 1] && s > curr[j + 1])))
-          kept[n_kept++] = j;
+        const int x = kept[k];
+        const uint8_t s = prev[x];
+        if (!(s > pprev[x] && s > next[x])) continue;
+        const int w = walls ? walls[x] : 0;
+        if (((w & kWallLeft) || (s > prev[x - 1] && s > pprev[x - 1] && s > next[x - 1])) &&
+            ((w & kWallRight) || (s > prev[x + 1] && s > pprev[x + 1] && s > next[x + 1])))
+          kept[n_kept++] = x;
       }
     } else {
-      n_kept = kernels.maxima(pprev, prev, curr, walls, cols, kept);
+      n_kept = kernels.maxima(pprev, prev, next, walls, cols, kept);
     }
     for (int k = 0; k < n_kept; ++k)
-      keypoints->emplace_back(static_cast<float>(kept[k]), static_cast<float>(i - 1), 7.f, -1.f,
+      keypoints->emplace_back(static_cast<float>(kept[k]), static_cast<float>(j), 7.f, -1.f,
                               static_cast<float>(prev[kept[k]]));
   }
 }

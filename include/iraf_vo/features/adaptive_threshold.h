@@ -28,6 +28,9 @@ double meanGradientMagnitude(const cv::Mat& gray, cv::Mat* sobel_rows);
 double meanGradientMagnitude(const cv::Mat& gray);
 /// The same F_g from cv::spatialGradient's planes (the reference of the row-wise Sobel above, for tests).
 double meanGradientMagnitudeReference(const cv::Mat& gray);
+/// meanGradientMagnitude's row kernel: AVX2 (16 pixels per step, where the CPU has it; the default) or the
+/// baseline SIMD build. Both give the same F_g bit for bit; for tests. Returns whether AVX2 is now in use.
+bool gradientUseAvx2(bool allowed);
 
 /// eq. (15): F_t^g = alpha * F_h + beta * F_g.
 inline double globalThreshold(double f_h, double f_g, double alpha, double beta) { return alpha * f_h + beta * f_g; }
@@ -36,6 +39,9 @@ inline double globalThreshold(double f_h, double f_g, double alpha, double beta)
 /// sigma_c^2(t) = (mu_T P_t(t) - mu_t(t))^2 / (P_t(t) (1 - P_t(t))). Pixels <= t_o form the lower class.
 /// For an empty or single-valued histogram returns that value (or 0).
 int otsuThreshold(const Histogram256& h);
+/// The same t_o by one sequential scan over every t (the definition; otsuThreshold evaluates sigma_c^2 with
+/// SIMD and rescans only near its maximum, bit-identical results, test AdaptiveThreshold.OtsuEqualsReference).
+int otsuThresholdReference(const Histogram256& h);
 
 /// eq. (19): F_t^l = delta * |I_m - t_o|.
 inline double localThreshold(double i_m, double t_o, double delta) { return delta * std::abs(i_m - t_o); }

@@ -55,6 +55,8 @@ class CellFastDetector {
   std::vector<Run> runs_;
   std::vector<uint8_t> col_th_, own_th_, walls_;
   std::vector<int> cell_of_col_;  // strip column -> cell (colOf)
+  std::vector<int> run_of_cell_;  // cell of the row -> its run in runs_ (-1: none)
+  std::vector<std::vector<int>> run_kps_;  // per run: indices of its corners in strip_kps_ (row-major)
   Fast9Buffers fast9_buffers_;
 };
 

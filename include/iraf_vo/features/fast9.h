@@ -13,8 +13,8 @@ constexpr uint8_t kWallLeft = 1, kWallRight = 2;
 
 /// Scratch rows reused between calls (no per-call allocation once grown).
 struct Fast9Buffers {
-  std::vector<uint8_t> score[3];
-  std::vector<int> corners[3];
+  std::vector<uint8_t> score[4];  // FAST scores of the last 4 rows (0 = no corner)
+  std::vector<int> corners[4];    // their corner columns
 };
 
 /// Replaces *keypoints by the FAST-9 corners of `img` (CV_8UC1, may be an ROI): pixel (x, y), 3 <= x < cols - 3,

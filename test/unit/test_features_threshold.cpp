@@ -1,0 +1,139 @@
+// The fast building blocks of the adaptive threshold (eqs. 13-19) against their simple references, bit for bit:
+// the cell thresholds decide the FAST corners, so they must not change by one grey level.
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+
+#include "common/test_data.h"
+#include "iraf_vo/features/adaptive_threshold.h"
+#include "iraf_vo/features/feature_extractor.h"
+
+using namespace iraf_vo;
+
+namespace {
+
+// Histograms of every level-0..7 cell of the frame's pyramid (the estimator's inputs on real data).
+std::vector<Histogram256> cellHistograms(const cv::Mat& gray) {
+  std::vector<Histogram256> out;
+  std::vector<cv::Mat> pyr;
+  FeatureExtractor::buildPyramid(gray, 1.2, 8, &pyr);
+  for (const cv::Mat& level : pyr) {
+    const CellGrid g = cellGridOfLevel(level.cols, level.rows, 35);
+    for (int i = 0; i < g.n_rows; ++i)
+      for (int j = 0; j < g.n_cols; ++j) {
+        const int x0 = g.x0(j), y0 = g.y0(i);
+        const int x1 = std::min(x0 + g.w_cell, g.max_x), y1 = std::min(y0 + g.h_cell, g.max_y);
+        if (x1 <= x0 || y1 <= y0) continue;
+        Histogram256 h{};
+        accumulateHistogram(level(cv::Rect(x0, y0, x1 - x0, y1 - y0)), &h);
+        out.push_back(h);
+      }
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(AdaptiveThreshold, OtsuEqualsReference) {
+  cv::RNG rng(12);
+  int checked = 0;
+  auto check = [&](const Histogram256& h) {
+    ASSERT_EQ(otsuThreshold(h), otsuThresholdReference(h));
+    ++checked;
+  };
+  // One non-empty bin anywhere (no split: that value).
+  for (int a = 0; a < 256; ++a) {
+    Histogram256 h{};
+    h[a] = 1 + a;
+    check(h);
+    EXPECT_EQ(otsuThreshold(h), a);
+  }
+  // Two spikes, every pair of bins and a few count ratios: flat maxima over the empty bins between them.
+  for (int a = 0; a < 256; ++a)
+    for (int b = a + 1; b < 256; ++b) {
+      Histogram256 h{};
+      h[a] = 1 + static_cast<uint32_t>(rng.uniform(0, 3000));
+      h[b] = (b - a) % 5 == 0 ? h[a] : 1 + static_cast<uint32_t>(rng.uniform(0, 3000));
+      check(h);
+    }
+  // Symmetric histograms: sigma_c^2 has two exactly equal maxima at different t.
+  for (int trial = 0; trial < 2000; ++trial) {
+    Histogram256 h{};
+    const int half = rng.uniform(1, 60), centre = rng.uniform(half, 256 - half);
+    for (int d = 0; d < half; ++d) {
+      const uint32_t c = rng.uniform(0, 4) == 0 ? 0 : static_cast<uint32_t>(rng.uniform(1, 200));
+      h[centre - 1 - d] = c;
+      if (centre + d < 256) h[centre + d] = c;
+    }
+    check(h);
+  }
+  // Sparse spikes, Gaussian mixtures (cell-like, 1 .. 20000 pixels), uniform noise, saturated ends.
+  for (int trial = 0; trial < 20000; ++trial) {
+    Histogram256 h{};
+    const int kind = trial % 4;
+    if (kind == 0) {
+      for (int s = rng.uniform(1, 7); s > 0; --s) h[rng.uniform(0, 256)] += rng.uniform(1, 500);
+    } else if (kind == 1) {
+      const int n = rng.uniform(1, 20000), modes = rng.uniform(1, 4);
+      for (int i = 0; i < n; ++i) {
+        const double mu = 40.0 + 80.0 * (i % modes), sd = 1.0 + 3.0 * (trial % 7);
+        h[cv::saturate_cast<uint8_t>(mu + rng.gaussian(sd))]++;
+      }
+    } else if (kind == 2) {
+      const int lo = rng.uniform(0, 256), hi = rng.uniform(lo, 256);
+      for (int i = rng.uniform(1, 3000); i > 0; --i) h[rng.uniform(lo, hi + 1)]++;
+    } else {
+      h[0] = rng.uniform(0, 1000);
+      h[255] = rng.uniform(0, 1000);
+      for (int i = rng.uniform(0, 500); i > 0; --i) h[rng.uniform(0, 256)]++;
+    }
+    check(h);
+  }
+  // Beyond the fast path's size limit (4e6 pixels) the reference is used.
+  Histogram256 big{};
+  big[10] = 3000000;
+  big[200] = 2500000;
+  big[90] = 7;
+  check(big);
+  check(Histogram256{});
+  // Real cells: EuRoC frames, raw and equalized.
+  for (int index : {0, 150, 400}) {
+    cv::Mat img = iraf_vo_test::eurocFrame(index);
+    if (img.empty()) break;
+    for (const Histogram256& h : cellHistograms(img)) check(h);
+    cv::equalizeHist(img, img);
+    for (const Histogram256& h : cellHistograms(img)) check(h);
+  }
+  RecordProperty("histograms", checked);
+}
+
+TEST(AdaptiveThreshold, GradientKernelsEqualReferenceBitForBit) {
+  // F_g feeds F_t^g (eq. 15), the upper clip of every cell threshold: the AVX2 and the baseline row kernels must
+  // both give meanGradientMagnitudeReference's double exactly, for every row length (vector steps and tails).
+  cv::RNG rng(21);
+  std::vector<cv::Mat> images;
+  for (int cols = 1; cols <= 80; ++cols) {
+    cv::Mat img(rng.uniform(1, 12), cols + 2, CV_8U);
+    rng.fill(img, cv::RNG::UNIFORM, 0, 256);
+    if (cols % 3 == 0) cv::GaussianBlur(img, img, cv::Size(3, 3), 0);
+    images.push_back(img.colRange(1, cols + 1));  // non-contiguous rows
+  }
+  for (int index : {0, 300}) {
+    const cv::Mat real = iraf_vo_test::eurocFrame(index);
+    if (!real.empty()) images.push_back(real);
+  }
+  cv::Mat big(480, 752, CV_8U);
+  rng.fill(big, cv::RNG::UNIFORM, 0, 256);
+  images.push_back(big);
+  const bool had_avx2 = gradientUseAvx2(true);
+  for (bool avx2 : {true, false}) {
+    if (avx2 && !had_avx2) continue;  // CPU without AVX2: the baseline kernel only
+    gradientUseAvx2(avx2);
+    cv::Mat scratch;
+    for (const cv::Mat& img : images)
+      ASSERT_EQ(meanGradientMagnitude(img, &scratch), meanGradientMagnitudeReference(img))
+          << img.size() << (avx2 ? " avx2" : " baseline");
+  }
+  gradientUseAvx2(true);
+}
