@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <ctime>
+#include <deque>
 #include <limits>
 #include <memory>
 
@@ -88,7 +89,8 @@ class ReprojectionCost final : public ceres::SizedCostFunction<2, 7, 3> {
     const Eigen::Vector3d p_c = Rp + t;
     Eigen::Vector2d uv;
     Eigen::Matrix<double, 2, 3> J;
-    if (p_c.z() <= 1e-6 || !cam_->project(p_c, &uv, &J)) return false;
+    // Cost-only evaluations (trial steps) pass no Jacobians: the projection's Jacobian is not formed then.
+    if (p_c.z() <= 1e-6 || !cam_->project(p_c, &uv, jacobians ? &J : nullptr)) return false;
     (Eigen::Map<Eigen::Vector2d>(residuals)) = (uv - uv_) * inv_sigma_;
     if (jacobians) {
       J *= inv_sigma_;
@@ -123,9 +125,10 @@ class PoseOnlyCost final : public ceres::SizedCostFunction<2, 7> {
     const Eigen::Vector3d p_c = Rp + t;
     Eigen::Vector2d uv;
     Eigen::Matrix<double, 2, 3> J;
-    if (p_c.z() <= 1e-6 || !cam_->project(p_c, &uv, &J)) return false;
+    const bool want_jacobian = jacobians && jacobians[0];
+    if (p_c.z() <= 1e-6 || !cam_->project(p_c, &uv, want_jacobian ? &J : nullptr)) return false;
     (Eigen::Map<Eigen::Vector2d>(residuals)) = (uv - uv_) * inv_sigma_;
-    if (jacobians && jacobians[0]) {
+    if (want_jacobian) {
       J *= inv_sigma_;
       Eigen::Map<Eigen::Matrix<double, 2, 7, Eigen::RowMajor>> Jp(jacobians[0]);
       Jp.leftCols<3>() = J;
@@ -174,6 +177,12 @@ class AbortCallback final : public ceres::IterationCallback {
 
 namespace {
 
+// One observation's term of the pose cost: Huber(|r|^2) (or |r|^2), r = pixel error / sigma, e2 = |pixel error|^2.
+double huberTerm(double e2, double sigma, double delta, bool robust) {
+  const double s2 = e2 / (sigma * sigma);
+  return (!robust || s2 <= delta * delta) ? s2 : 2.0 * delta * std::sqrt(s2) - delta * delta;
+}
+
 // Robust cost of the current pose over the used observations: sum of Huber(|r|^2), r sigma-normalized.
 double poseCost(const CameraModel& cam, const Eigen::Isometry3d& T, const std::vector<Eigen::Vector3d>& p_w,
                 const std::vector<Eigen::Vector2d>& uv, const std::vector<double>& sigma, const std::vector<char>& use,
@@ -183,19 +192,28 @@ double poseCost(const CameraModel& cam, const Eigen::Isometry3d& T, const std::v
     if (!use[i]) continue;
     const double e2 = reprojectionError2(cam, T, p_w[i], uv[i]);
     if (e2 < 0) return std::numeric_limits<double>::infinity();
-    const double s2 = e2 / (sigma[i] * sigma[i]);
-    c += (!robust || s2 <= delta * delta) ? s2 : 2.0 * delta * std::sqrt(s2) - delta * delta;
+    c += huberTerm(e2, sigma[i], delta, robust);
   }
+  return c;
+}
+
+// poseCost() from squared errors already computed at the pose (e2[i] >= 0 for every used i).
+double poseCostOfErrors2(const std::vector<double>& e2, const std::vector<double>& sigma, const std::vector<char>& use,
+                         double delta, bool robust) {
+  double c = 0.0;
+  for (size_t i = 0; i < e2.size(); ++i)
+    if (use[i]) c += huberTerm(e2[i], sigma[i], delta, robust);
   return c;
 }
 
 // Levenberg-Marquardt on the 6-dof left perturbation (t' = t + dt, R' = Exp(dtheta) R) with Huber IRLS weights:
 // the same model and Jacobian as PoseOnlyCost, solved on 6x6 normal equations (no per-residual allocation).
+// initial_cost: poseCost() at *T.
 void solvePoseLM(const CameraModel& cam, const std::vector<Eigen::Vector3d>& p_w, const std::vector<Eigen::Vector2d>& uv,
                  const std::vector<double>& sigma, const std::vector<char>& use, double delta, bool robust,
-                 int max_iterations, Eigen::Isometry3d* T) {
+                 int max_iterations, double initial_cost, Eigen::Isometry3d* T) {
   double lambda = 1e-4;
-  double cost = poseCost(cam, *T, p_w, uv, sigma, use, delta, robust);
+  double cost = initial_cost;
   for (int it = 0; it < max_iterations; ++it) {
     Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
@@ -255,17 +273,23 @@ int optimizePose(const CameraModel& cam, const std::vector<Eigen::Vector3d>& p_w
   const size_t n = p_w.size();
   if (inlier->size() != n) inlier->assign(n, 1);
   int n_inliers = 0;
+  // Squared pixel error of each observation at *T_c_w (valid for the inliers): computed here for the first
+  // round, then by each round's classification (its inliers all project, so no observation is dropped again).
+  std::vector<double> e2(n, -1.0);
+  for (size_t i = 0; i < n; ++i)
+    if ((*inlier)[i]) e2[i] = reprojectionError2(cam, *T_c_w, p_w[i], uv[i]);
   for (int round = 0; round < std::max(1, options.rounds); ++round) {
     // Huber only in the first rounds (ORB-SLAM drops the robust kernel in the last one).
     const bool robust = round + 1 < options.rounds;
     int used = 0;
     for (size_t i = 0; i < n; ++i) {
-      if ((*inlier)[i] && reprojectionError2(cam, *T_c_w, p_w[i], uv[i]) < 0) (*inlier)[i] = 0;
+      if ((*inlier)[i] && e2[i] < 0) (*inlier)[i] = 0;
       used += (*inlier)[i];
     }
     if (used < 4) return 0;
     if (!options.use_ceres) {
-      solvePoseLM(cam, p_w, uv, sigma, *inlier, options.huber_delta, robust, options.max_num_iterations, T_c_w);
+      const double cost = poseCostOfErrors2(e2, sigma, *inlier, options.huber_delta, robust);
+      solvePoseLM(cam, p_w, uv, sigma, *inlier, options.huber_delta, robust, options.max_num_iterations, cost, T_c_w);
     } else {
       double pose[7];
       poseToBlock(*T_c_w, pose);
@@ -292,8 +316,8 @@ int optimizePose(const CameraModel& cam, const std::vector<Eigen::Vector3d>& p_w
     // chi2 classification over all observations (outliers may come back).
     n_inliers = 0;
     for (size_t i = 0; i < n; ++i) {
-      const double e2 = reprojectionError2(cam, *T_c_w, p_w[i], uv[i]);
-      const bool ok = e2 >= 0 && e2 / (sigma[i] * sigma[i]) <= options.chi2_threshold;
+      e2[i] = reprojectionError2(cam, *T_c_w, p_w[i], uv[i]);
+      const bool ok = e2[i] >= 0 && e2[i] / (sigma[i] * sigma[i]) <= options.chi2_threshold;
       (*inlier)[i] = ok;
       n_inliers += ok;
     }
@@ -302,15 +326,30 @@ int optimizePose(const CameraModel& cam, const std::vector<Eigen::Vector3d>& p_w
   return n_inliers;
 }
 
+namespace {
+
+// Squared pixel error of every observation, -1 where the point does not project (reprojectionError2).
+std::vector<double> observationErrors2(const CameraModel& cam, const std::vector<BAKeyframe>& kfs,
+                                       const std::vector<BAPoint>& pts, const std::vector<BAObservation>& obs) {
+  std::vector<double> e2(obs.size());
+  for (size_t j = 0; j < obs.size(); ++j)
+    e2[j] = reprojectionError2(cam, kfs[obs[j].keyframe].T_c_w, pts[obs[j].point].p_w, obs[j].uv);
+  return e2;
+}
+
+// RMSE over observationErrors2(); an observation that does not project counts as 1000 px.
+double rmseOfErrors2(const std::vector<double>& e2) {
+  if (e2.empty()) return 0.0;
+  double s = 0.0;
+  for (const double e : e2) s += e < 0 ? 1e6 : e;
+  return std::sqrt(s / e2.size());
+}
+
+}  // namespace
+
 double reprojectionRmse(const CameraModel& cam, const std::vector<BAKeyframe>& kfs, const std::vector<BAPoint>& pts,
                         const std::vector<BAObservation>& obs) {
-  if (obs.empty()) return 0.0;
-  double s = 0.0;
-  for (const auto& o : obs) {
-    const double e2 = reprojectionError2(cam, kfs[o.keyframe].T_c_w, pts[o.point].p_w, o.uv);
-    s += e2 < 0 ? 1e6 : e2;
-  }
-  return std::sqrt(s / obs.size());
+  return rmseOfErrors2(observationErrors2(cam, kfs, pts, obs));
 }
 
 bool bundleAdjust(const CameraModel& cam, std::vector<BAKeyframe>* kfs, std::vector<BAPoint>* pts,
@@ -327,18 +366,24 @@ bool bundleAdjust(const CameraModel& cam, std::vector<BAKeyframe>* kfs, std::vec
   for (size_t i = 0; i < pts->size(); ++i) (Eigen::Map<Eigen::Vector3d>(&points[3 * i])) = (*pts)[i].p_w;
 
   // Declared before the problem so they outlive it (shared by all residuals, not owned by the problem).
+  // The cost functions live in one container (no per-residual delete, no ownership bookkeeping in the problem).
   PoseManifold manifold;
   std::unique_ptr<ceres::HuberLoss> huber(new ceres::HuberLoss(options.huber_delta));
   ceres::HuberLoss* loss = huber.get();
+  std::deque<ReprojectionCost> costs;
   ceres::Problem::Options popts;
   popts.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   popts.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  popts.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  popts.disable_all_safety_checks = true;  // each residual has one pose and one distinct point block
   ceres::Problem problem(popts);
   std::vector<char> pose_added(kfs->size(), 0);
+  // Errors before the solve: which observations project, and the initial RMSE (the same values).
+  const std::vector<double> e2_initial = observationErrors2(cam, *kfs, *pts, obs);
   int n_res = 0;
   for (size_t j = 0; j < obs.size(); ++j) {
     const auto& o = obs[j];
-    if (reprojectionError2(cam, (*kfs)[o.keyframe].T_c_w, (*pts)[o.point].p_w, o.uv) < 0) {
+    if (e2_initial[j] < 0) {
       sum.outlier[j] = 1;
       continue;
     }
@@ -348,12 +393,13 @@ bool bundleAdjust(const CameraModel& cam, std::vector<BAKeyframe>* kfs, std::vec
       if ((*kfs)[o.keyframe].fixed) problem.SetParameterBlockConstant(pb);
       pose_added[o.keyframe] = 1;
     }
-    problem.AddResidualBlock(new ReprojectionCost(&cam, o.uv, o.sigma), loss, pb, &points[3 * o.point]);
+    costs.emplace_back(&cam, o.uv, o.sigma);
+    problem.AddResidualBlock(&costs.back(), loss, pb, &points[3 * o.point]);
     ++n_res;
   }
   bool ok = false;
   if (n_res > 0) {
-    sum.initial_rmse_px = reprojectionRmse(cam, *kfs, *pts, obs);
+    sum.initial_rmse_px = rmseOfErrors2(e2_initial);
     ceres::Solver::Options so;
     so.linear_solver_type = options.dense_schur ? ceres::DENSE_SCHUR : ceres::SPARSE_SCHUR;
     // Explicit Schur ordering (points eliminated first) saves Ceres' independent-set search.
@@ -380,12 +426,12 @@ bool bundleAdjust(const CameraModel& cam, std::vector<BAKeyframe>* kfs, std::vec
         if (!(*kfs)[k].fixed) (*kfs)[k].T_c_w = blockToPose(&poses[7 * k]);
       for (size_t i = 0; i < pts->size(); ++i) (*pts)[i].p_w = Eigen::Map<Eigen::Vector3d>(&points[3 * i]);
     }
+    const std::vector<double> e2_final = observationErrors2(cam, *kfs, *pts, obs);
     for (size_t j = 0; j < obs.size(); ++j) {
-      const auto& o = obs[j];
-      const double e2 = reprojectionError2(cam, (*kfs)[o.keyframe].T_c_w, (*pts)[o.point].p_w, o.uv);
-      sum.outlier[j] = e2 < 0 || e2 / (o.sigma * o.sigma) > options.chi2_threshold;
+      const double e2 = e2_final[j], sigma = obs[j].sigma;
+      sum.outlier[j] = e2 < 0 || e2 / (sigma * sigma) > options.chi2_threshold;
     }
-    sum.final_rmse_px = reprojectionRmse(cam, *kfs, *pts, obs);
+    sum.final_rmse_px = rmseOfErrors2(e2_final);
     sum.ran = true;
   }
   sum.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
