@@ -64,12 +64,25 @@ bool Frame::fromFeatures(const FeatureFrame& in, const CameraModel& camera, long
 void Frame::buildGrid(int width, int height) {
   cols_ = std::max(1, static_cast<int>(std::ceil(width / cell_)));
   rows_ = std::max(1, static_cast<int>(std::ceil(height / cell_)));
-  grid_.assign(static_cast<size_t>(cols_ * rows_), {});
+  const size_t n_cells = static_cast<size_t>(cols_ * rows_);
+  // Counting sort of the valid keypoints by cell (stable: keypoint order within a cell).
+  std::vector<int> cell_of(keypoints.size(), -1);
+  grid_start_.assign(n_cells + 1, 0);
   for (size_t i = 0; i < keypoints.size(); ++i) {
     if (!valid[i]) continue;
     const int cx = std::clamp(static_cast<int>(keypoints[i].pt.x / cell_), 0, cols_ - 1);
     const int cy = std::clamp(static_cast<int>(keypoints[i].pt.y / cell_), 0, rows_ - 1);
-    grid_[static_cast<size_t>(cy * cols_ + cx)].push_back(static_cast<int>(i));
+    cell_of[i] = cy * cols_ + cx;
+    ++grid_start_[static_cast<size_t>(cell_of[i]) + 1];
+  }
+  for (size_t c = 0; c < n_cells; ++c) grid_start_[c + 1] += grid_start_[c];
+  grid_entries_.resize(static_cast<size_t>(grid_start_[n_cells]));
+  std::vector<int> fill(grid_start_.begin(), grid_start_.end() - 1);
+  for (size_t i = 0; i < keypoints.size(); ++i) {
+    if (cell_of[i] < 0) continue;
+    const cv::KeyPoint& kp = keypoints[i];
+    grid_entries_[static_cast<size_t>(fill[static_cast<size_t>(cell_of[i])]++)] = {kp.pt.x, kp.pt.y, kp.octave,
+                                                                                    static_cast<int>(i)};
   }
 }
 
@@ -80,15 +93,18 @@ void Frame::featuresInArea(double u, double v, double r, int min_octave, int max
   const int x1 = std::min(cols_ - 1, static_cast<int>((u + r) / cell_));
   const int y0 = std::max(0, static_cast<int>((v - r) / cell_));
   const int y1 = std::min(rows_ - 1, static_cast<int>((v + r) / cell_));
+  if (x0 > x1) return;
   const double r2 = r * r;
-  for (int y = y0; y <= y1; ++y)
-    for (int x = x0; x <= x1; ++x)
-      for (int i : grid_[static_cast<size_t>(y * cols_ + x)]) {
-        const cv::KeyPoint& kp = keypoints[i];
-        if (kp.octave < min_octave || kp.octave > max_octave) continue;
-        const double du = kp.pt.x - u, dv = kp.pt.y - v;
-        if (du * du + dv * dv <= r2) out->push_back(i);
-      }
+  for (int y = y0; y <= y1; ++y) {
+    // Cells x0..x1 of row y are one run of entries.
+    const GridEntry* e = grid_entries_.data() + grid_start_[static_cast<size_t>(y * cols_ + x0)];
+    const GridEntry* end = grid_entries_.data() + grid_start_[static_cast<size_t>(y * cols_ + x1 + 1)];
+    for (; e != end; ++e) {
+      if (e->octave < min_octave || e->octave > max_octave) continue;
+      const double du = e->x - u, dv = e->y - v;
+      if (du * du + dv * dv <= r2) out->push_back(e->index);
+    }
+  }
 }
 
 }  // namespace iraf_vo
