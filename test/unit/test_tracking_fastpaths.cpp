@@ -2,10 +2,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
+#include <memory>
 #include <random>
 #include <tuple>
 
 #include "iraf_vo/tracking/frame.h"
+#include "iraf_vo/tracking/geometry.h"
 #include "tracking_test_utils.h"
 
 using namespace iraf_vo;
@@ -79,4 +82,56 @@ TEST(TrackingFastPaths, FeaturesInAreaMatchesPlainScanInOrder) {
   const Frame copy = f;
   copy.featuresInArea(100.0, 100.0, 40.0, 0, 7, &fast);
   EXPECT_EQ(plainFeaturesInArea(f, w, h, 100.0, 100.0, 40.0, 0, 7), fast);
+}
+
+// bundleAdjust computes each observation's error once before and once after the solve; the summary must equal the
+// plain per-observation computations (reprojectionRmse, reprojectionError2 + chi2) on the same poses and points.
+TEST(TrackingFastPaths, BundleAdjustSummaryMatchesPlainErrors) {
+  for (bool fisheye : {false, true}) {
+    std::unique_ptr<CameraModel> cam;
+    if (fisheye)
+      cam.reset(new test::TestFisheye(640, 480, 300.0, 320.0, 240.0));
+    else
+      cam.reset(new PinholeRadtan(640, 480, 450.0, 452.0, 320.0, 240.0, -0.2, 0.05, 1e-3, -1e-3));
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<double> ux(-3, 3), uy(-2, 2), uz(3, 8);
+    std::normal_distribution<double> nd(0.0, 1.0);
+    std::vector<BAKeyframe> kfs(5);
+    for (int k = 0; k < 5; ++k) {
+      kfs[k].T_c_w = test::makePose({1.0 * k, -1.5 * k, 0.5 * k}, {0.2 * k, 0.03 * k, 0.02 * k}).inverse();
+      kfs[k].fixed = k < 2;
+    }
+    std::vector<BAPoint> pts;
+    std::vector<BAObservation> obs;
+    for (int i = 0; i < 150; ++i) {
+      BAPoint q;
+      q.p_w = Eigen::Vector3d(ux(rng), uy(rng), uz(rng));
+      for (int k = 0; k < 5; ++k) {
+        Eigen::Vector2d uv;
+        if (!cam->project(kfs[k].T_c_w * q.p_w, &uv)) continue;
+        obs.push_back({k, static_cast<int>(pts.size()), uv + 0.5 * Eigen::Vector2d(nd(rng), nd(rng)), 1.0 + (i % 3)});
+      }
+      pts.push_back(q);
+    }
+    for (auto& q : pts) q.p_w += 0.05 * Eigen::Vector3d(nd(rng), nd(rng), nd(rng));
+    for (size_t j = 0; j < obs.size(); j += 40) obs[j].uv += Eigen::Vector2d(30, -25);  // outliers
+    pts[7].p_w = kfs[0].T_c_w.inverse() * Eigen::Vector3d(0.1, 0.1, -2.0);               // behind keyframe 0
+    const double rmse_before = reprojectionRmse(*cam, kfs, pts, obs);
+    BAOptions opt;
+    opt.max_num_iterations = 20;
+    opt.max_solver_time_in_seconds = 100.0;
+    BASummary sum;
+    ASSERT_TRUE(bundleAdjust(*cam, &kfs, &pts, obs, opt, &sum));
+    EXPECT_EQ(rmse_before, sum.initial_rmse_px);
+    EXPECT_EQ(reprojectionRmse(*cam, kfs, pts, obs), sum.final_rmse_px);
+    int n_outliers = 0;
+    for (size_t j = 0; j < obs.size(); ++j) {
+      const BAObservation& o = obs[j];
+      const double e2 = reprojectionError2(*cam, kfs[o.keyframe].T_c_w, pts[o.point].p_w, o.uv);
+      const bool outlier = e2 < 0 || e2 / (o.sigma * o.sigma) > opt.chi2_threshold;
+      EXPECT_EQ(outlier, sum.outlier[j] != 0) << j;
+      n_outliers += outlier;
+    }
+    EXPECT_GT(n_outliers, 0);
+  }
 }
