@@ -93,18 +93,28 @@ void Frame::featuresInArea(double u, double v, double r, int min_octave, int max
   const int x1 = std::min(cols_ - 1, static_cast<int>((u + r) / cell_));
   const int y0 = std::max(0, static_cast<int>((v - r) / cell_));
   const int y1 = std::min(rows_ - 1, static_cast<int>((v + r) / cell_));
-  if (x0 > x1) return;
+  if (x0 > x1 || y0 > y1) return;
+  // Cells x0..x1 of row y are one run of entries. Most entries fail the octave test in no predictable pattern, so
+  // every entry's index is written and the output advances only for the accepted ones (no branch per entry).
+  size_t n_scanned = 0;
+  for (int y = y0; y <= y1; ++y)
+    n_scanned += static_cast<size_t>(grid_start_[static_cast<size_t>(y * cols_ + x1 + 1)] -
+                                     grid_start_[static_cast<size_t>(y * cols_ + x0)]);
+  out->resize(n_scanned);
+  int* dst = out->data();
+  size_t n_kept = 0;
   const double r2 = r * r;
   for (int y = y0; y <= y1; ++y) {
-    // Cells x0..x1 of row y are one run of entries.
     const GridEntry* e = grid_entries_.data() + grid_start_[static_cast<size_t>(y * cols_ + x0)];
     const GridEntry* end = grid_entries_.data() + grid_start_[static_cast<size_t>(y * cols_ + x1 + 1)];
     for (; e != end; ++e) {
-      if (e->octave < min_octave || e->octave > max_octave) continue;
       const double du = e->x - u, dv = e->y - v;
-      if (du * du + dv * dv <= r2) out->push_back(e->index);
+      const bool keep = (e->octave >= min_octave) & (e->octave <= max_octave) & (du * du + dv * dv <= r2);
+      dst[n_kept] = e->index;
+      n_kept += keep;
     }
   }
+  out->resize(n_kept);
 }
 
 }  // namespace iraf_vo
