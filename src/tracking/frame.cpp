@@ -1,8 +1,10 @@
 #include <iraf_vo/tracking/frame.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 namespace iraf_vo {
 
@@ -28,7 +30,20 @@ Descriptor descriptorRow(const cv::Mat& descriptors, int r) {
   return out;
 }
 
-double octaveSigma(double scale_factor, int octave) { return std::pow(scale_factor, std::max(0, octave)); }
+double octaveSigma(double scale_factor, int octave) {
+  const int o = std::max(0, octave);
+  // std::pow per call was ~0.3 % of the whole VO (every projected point, match and BA observation). The powers of
+  // the scale factor last asked for on this thread are kept (a run has one scale factor): the same std::pow values.
+  constexpr int kTabulated = 16;
+  thread_local double tabulated_scale = std::numeric_limits<double>::quiet_NaN();
+  thread_local std::array<double, kTabulated> powers;
+  if (o >= kTabulated) return std::pow(scale_factor, o);
+  if (std::memcmp(&scale_factor, &tabulated_scale, sizeof(double)) != 0) {
+    for (int k = 0; k < kTabulated; ++k) powers[static_cast<size_t>(k)] = std::pow(scale_factor, k);
+    tabulated_scale = scale_factor;
+  }
+  return powers[static_cast<size_t>(o)];
+}
 
 bool Frame::fromFeatures(const FeatureFrame& in, const CameraModel& camera, long index, Frame* f,
                          std::string* error) {

@@ -135,3 +135,20 @@ TEST(TrackingFastPaths, BundleAdjustSummaryMatchesPlainErrors) {
     EXPECT_GT(n_outliers, 0);
   }
 }
+
+// octaveSigma keeps the powers of the last scale factor: every value equals std::pow, also when scale factors
+// alternate and for octaves past the table.
+TEST(TrackingFastPaths, OctaveSigmaEqualsPow) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> scale(1.01, 2.5);
+  std::uniform_int_distribution<int> octave(-3, 40);
+  const double scales[] = {1.2, 1.2, scale(rng), 1.2, scale(rng), 2.0, 1.2};
+  for (double s : scales)
+    for (int k = 0; k < 200; ++k) {
+      const int o = octave(rng);
+      ASSERT_EQ(std::pow(s, std::max(0, o)), octaveSigma(s, o)) << s << " " << o;
+    }
+  Frame f;
+  f.scale_factor = 1.2;
+  for (int o = 0; o < 8; ++o) EXPECT_EQ(std::pow(1.2, o), f.sigma(o));
+}
