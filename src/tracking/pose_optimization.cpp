@@ -72,9 +72,10 @@ void solvePoseLM(const CameraModel& cam, const std::vector<Eigen::Vector3d>& p_w
       Jp.rightCols<3>() = -Jp.leftCols<3>() * skew(Rp);
       const double e = r.norm();
       const double w = (!robust || e <= delta) ? 1.0 : delta / e;  // Huber IRLS weight
-      H.noalias() += w * Jp.transpose() * Jp;
-      g.noalias() += w * Jp.transpose() * r;
+      addWeightedNormalEquations(Jp, r, w, &H, &g);
     }
+    // Only the lower triangle is summed (LDLT reads no other); the upper one mirrors it.
+    copyLowerToUpper(&H);
     bool improved = false;
     for (int tries = 0; tries < 6 && !improved; ++tries) {
       Eigen::Matrix<double, 6, 6> A = H;

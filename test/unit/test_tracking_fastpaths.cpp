@@ -152,3 +152,38 @@ TEST(TrackingFastPaths, OctaveSigmaEqualsPow) {
   f.scale_factor = 1.2;
   for (int o = 0; o < 8; ++o) EXPECT_EQ(std::pow(1.2, o), f.sigma(o));
 }
+
+// The pose LM's normal equations: lower triangle and gradient exactly as Eigen's dense expressions, and the damped
+// LDLT step from the mirrored matrix equal to the one from Eigen's full (not exactly symmetric) sum.
+TEST(TrackingFastPaths, NormalEquationsLowerTriangleMatchDenseSum) {
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> u(-300.0, 300.0), uw(0.05, 1.0);
+  for (int trial = 0; trial < 300; ++trial) {
+    Eigen::Matrix<double, 6, 6> H_dense = Eigen::Matrix<double, 6, 6>::Zero(), H_fast = H_dense;
+    Eigen::Matrix<double, 6, 1> g_dense = Eigen::Matrix<double, 6, 1>::Zero(), g_fast = g_dense;
+    for (int obs = 0; obs < 60; ++obs) {
+      Eigen::Matrix<double, 2, 6> Jp;
+      for (int k = 0; k < 12; ++k) Jp.data()[k] = u(rng);
+      const Eigen::Vector2d r(0.01 * u(rng), 0.01 * u(rng));
+      const double w = obs % 3 ? 1.0 : uw(rng);
+      H_dense.noalias() += w * Jp.transpose() * Jp;
+      g_dense.noalias() += w * Jp.transpose() * r;
+      addWeightedNormalEquations(Jp, r, w, &H_fast, &g_fast);
+    }
+    for (int i = 0; i < 6; ++i) {
+      ASSERT_EQ(g_dense(i), g_fast(i));
+      for (int j = 0; j <= i; ++j) ASSERT_EQ(H_dense(i, j), H_fast(i, j)) << i << "," << j;
+    }
+    copyLowerToUpper(&H_fast);
+    for (int i = 0; i < 6; ++i)
+      for (int j = i + 1; j < 6; ++j) ASSERT_EQ(H_fast(j, i), H_fast(i, j));
+    for (double lambda : {1e-7, 1e-4, 1e-1, 10.0}) {
+      Eigen::Matrix<double, 6, 6> A_dense = H_dense, A_fast = H_fast;
+      A_dense.diagonal() += lambda * H_dense.diagonal().cwiseMax(1e-9);
+      A_fast.diagonal() += lambda * H_fast.diagonal().cwiseMax(1e-9);
+      const Eigen::Matrix<double, 6, 1> dx_dense = A_dense.ldlt().solve(-g_dense);
+      const Eigen::Matrix<double, 6, 1> dx_fast = A_fast.ldlt().solve(-g_fast);
+      for (int i = 0; i < 6; ++i) ASSERT_EQ(dx_dense(i), dx_fast(i)) << lambda;
+    }
+  }
+}
