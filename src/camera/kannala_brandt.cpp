@@ -46,8 +46,8 @@ bool KannalaBrandt::project(const Eigen::Vector3d& p_c, Eigen::Vector2d* uv, Eig
   }
   const double theta = std::atan2(r, Z);
   if (theta > theta_max_) return false;
-  double dtd = 0.0;
-  const double td = thetaD(theta, &dtd);
+  double dtd = 0.0;  // dtheta_d/dtheta, for the Jacobian only
+  const double td = thetaD(theta, J ? &dtd : nullptr);
   const double s = td / r;
   *uv = Eigen::Vector2d(fx_ * s * X + cx_, fy_ * s * Y + cy_);
   if (J) {

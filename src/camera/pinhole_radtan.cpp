@@ -44,19 +44,26 @@ bool PinholeRadtan::project(const Eigen::Vector3d& p_c, Eigen::Vector2d* uv, Eig
   const double z = p_c.z();
   if (!(z > 1e-12) || !p_c.allFinite()) return false;
   const double inv_z = 1.0 / z;
-  const Eigen::Vector2d xy(p_c.x() * inv_z, p_c.y() * inv_z);
-  if (xy.squaredNorm() > r2_max_) return false;
-  Eigen::Matrix2d Jd;
-  const Eigen::Vector2d d = distort(xy, J ? &Jd : nullptr);
-  *uv = Eigen::Vector2d(fx_ * d.x() + cx_, fy_ * d.y() + cy_);
+  const double x = p_c.x() * inv_z, y = p_c.y() * inv_z;
+  // distort() inlined (same expressions, same rounding): the Jacobian terms are formed only when asked for.
+  const double x2 = x * x, y2 = y * y, xy = x * y, r2 = x2 + y2;
+  if (r2 > r2_max_) return false;
+  const double radial = 1.0 + r2 * (k1_ + r2 * (k2_ + r2 * k3_));
+  const double xd = x * radial + 2.0 * p1_ * xy + p2_ * (r2 + 2.0 * x2);
+  const double yd = y * radial + p1_ * (r2 + 2.0 * y2) + 2.0 * p2_ * xy;
+  *uv = Eigen::Vector2d(fx_ * xd + cx_, fy_ * yd + cy_);
   if (J) {
-    // d(uv)/d(p) = diag(fx, fy) * d(xd)/d(xy) * d(xy)/d(p),  d(xy)/d(p) = [1/z 0 -x/z; 0 1/z -y/z].
-    Eigen::Matrix<double, 2, 3> Jp;
-    Jp << inv_z, 0.0, -xy.x() * inv_z, 0.0, inv_z, -xy.y() * inv_z;
-    Eigen::Matrix2d F = Eigen::Matrix2d::Zero();
-    F(0, 0) = fx_;
-    F(1, 1) = fy_;
-    *J = F * Jd * Jp;
+    // d(uv)/d(p) = diag(fx, fy) * Jd * [1/z 0 -x/z; 0 1/z -y/z] with Jd = d(xd, yd)/d(x, y) as in distort(),
+    // multiplied out without the zero entries (each product and sum as in the dense 2x2 * 2x2 * 2x3 chain).
+    const double dr = k1_ + r2 * (2.0 * k2_ + 3.0 * k3_ * r2);
+    const double cross = 2.0 * xy * dr + 2.0 * p1_ * x + 2.0 * p2_ * y;
+    const double a = fx_ * (radial + 2.0 * x2 * dr + 2.0 * p1_ * y + 6.0 * p2_ * x);
+    const double b = fx_ * cross;
+    const double c = fy_ * cross;
+    const double d = fy_ * (radial + 2.0 * y2 * dr + 6.0 * p1_ * y + 2.0 * p2_ * x);
+    const double dx_dz = -x * inv_z, dy_dz = -y * inv_z;
+    *J << a * inv_z, b * inv_z, a * dx_dz + b * dy_dz,  //
+        c * inv_z, d * inv_z, c * dx_dz + d * dy_dz;
   }
   return true;
 }

@@ -1,8 +1,10 @@
 #include <iraf_vo/tracking/frame.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 namespace iraf_vo {
 
@@ -28,7 +30,20 @@ Descriptor descriptorRow(const cv::Mat& descriptors, int r) {
   return out;
 }
 
-double octaveSigma(double scale_factor, int octave) { return std::pow(scale_factor, std::max(0, octave)); }
+double octaveSigma(double scale_factor, int octave) {
+  const int o = std::max(0, octave);
+  // std::pow per call was ~0.3 % of the whole VO (every projected point, match and BA observation). The powers of
+  // the scale factor last asked for on this thread are kept (a run has one scale factor): the same std::pow values.
+  constexpr int kTabulated = 16;
+  thread_local double tabulated_scale = std::numeric_limits<double>::quiet_NaN();
+  thread_local std::array<double, kTabulated> powers;
+  if (o >= kTabulated) return std::pow(scale_factor, o);
+  if (std::memcmp(&scale_factor, &tabulated_scale, sizeof(double)) != 0) {
+    for (int k = 0; k < kTabulated; ++k) powers[static_cast<size_t>(k)] = std::pow(scale_factor, k);
+    tabulated_scale = scale_factor;
+  }
+  return powers[static_cast<size_t>(o)];
+}
 
 bool Frame::fromFeatures(const FeatureFrame& in, const CameraModel& camera, long index, Frame* f,
                          std::string* error) {
@@ -64,12 +79,25 @@ bool Frame::fromFeatures(const FeatureFrame& in, const CameraModel& camera, long
 void Frame::buildGrid(int width, int height) {
   cols_ = std::max(1, static_cast<int>(std::ceil(width / cell_)));
   rows_ = std::max(1, static_cast<int>(std::ceil(height / cell_)));
-  grid_.assign(static_cast<size_t>(cols_ * rows_), {});
+  const size_t n_cells = static_cast<size_t>(cols_ * rows_);
+  // Counting sort of the valid keypoints by cell (stable: keypoint order within a cell).
+  std::vector<int> cell_of(keypoints.size(), -1);
+  grid_start_.assign(n_cells + 1, 0);
   for (size_t i = 0; i < keypoints.size(); ++i) {
     if (!valid[i]) continue;
     const int cx = std::clamp(static_cast<int>(keypoints[i].pt.x / cell_), 0, cols_ - 1);
     const int cy = std::clamp(static_cast<int>(keypoints[i].pt.y / cell_), 0, rows_ - 1);
-    grid_[static_cast<size_t>(cy * cols_ + cx)].push_back(static_cast<int>(i));
+    cell_of[i] = cy * cols_ + cx;
+    ++grid_start_[static_cast<size_t>(cell_of[i]) + 1];
+  }
+  for (size_t c = 0; c < n_cells; ++c) grid_start_[c + 1] += grid_start_[c];
+  grid_entries_.resize(static_cast<size_t>(grid_start_[n_cells]));
+  std::vector<int> fill(grid_start_.begin(), grid_start_.end() - 1);
+  for (size_t i = 0; i < keypoints.size(); ++i) {
+    if (cell_of[i] < 0) continue;
+    const cv::KeyPoint& kp = keypoints[i];
+    grid_entries_[static_cast<size_t>(fill[static_cast<size_t>(cell_of[i])]++)] = {kp.pt.x, kp.pt.y, kp.octave,
+                                                                                    static_cast<int>(i)};
   }
 }
 
@@ -80,15 +108,28 @@ void Frame::featuresInArea(double u, double v, double r, int min_octave, int max
   const int x1 = std::min(cols_ - 1, static_cast<int>((u + r) / cell_));
   const int y0 = std::max(0, static_cast<int>((v - r) / cell_));
   const int y1 = std::min(rows_ - 1, static_cast<int>((v + r) / cell_));
-  const double r2 = r * r;
+  if (x0 > x1 || y0 > y1) return;
+  // Cells x0..x1 of row y are one run of entries. Most entries fail the octave test in no predictable pattern, so
+  // every entry's index is written and the output advances only for the accepted ones (no branch per entry).
+  size_t n_scanned = 0;
   for (int y = y0; y <= y1; ++y)
-    for (int x = x0; x <= x1; ++x)
-      for (int i : grid_[static_cast<size_t>(y * cols_ + x)]) {
-        const cv::KeyPoint& kp = keypoints[i];
-        if (kp.octave < min_octave || kp.octave > max_octave) continue;
-        const double du = kp.pt.x - u, dv = kp.pt.y - v;
-        if (du * du + dv * dv <= r2) out->push_back(i);
-      }
+    n_scanned += static_cast<size_t>(grid_start_[static_cast<size_t>(y * cols_ + x1 + 1)] -
+                                     grid_start_[static_cast<size_t>(y * cols_ + x0)]);
+  out->resize(n_scanned);
+  int* dst = out->data();
+  size_t n_kept = 0;
+  const double r2 = r * r;
+  for (int y = y0; y <= y1; ++y) {
+    const GridEntry* e = grid_entries_.data() + grid_start_[static_cast<size_t>(y * cols_ + x0)];
+    const GridEntry* end = grid_entries_.data() + grid_start_[static_cast<size_t>(y * cols_ + x1 + 1)];
+    for (; e != end; ++e) {
+      const double du = e->x - u, dv = e->y - v;
+      const bool keep = (e->octave >= min_octave) & (e->octave <= max_octave) & (du * du + dv * dv <= r2);
+      dst[n_kept] = e->index;
+      n_kept += keep;
+    }
+  }
+  out->resize(n_kept);
 }
 
 }  // namespace iraf_vo

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace iraf_vo {
 
@@ -44,50 +45,56 @@ LocalBAProblem Map::localBAProblem(int window_size, double min_fixed_span) const
   if (keyframes_.size() < 2) return prob;
   prob.next_keyframe_id = next_keyframe_id_;
   prob.next_point_id = next_point_id_;
+  // Keyframe id -> problem index, and the keyframe of each problem index (no map lookup per observation).
   std::unordered_map<long, int> kf_index;
+  std::vector<const Keyframe*> keyframe_of;
   int nwin = 0;
   for (auto it = keyframes_.rbegin(); it != keyframes_.rend() && nwin < window_size; ++it, ++nwin) {
     kf_index[it->first] = static_cast<int>(prob.keyframe_ids.size());
     prob.keyframe_ids.push_back(it->first);
+    keyframe_of.push_back(it->second.get());
     BAKeyframe b;
     b.T_c_w = it->second->T_c_w;
     prob.keyframes.push_back(b);
   }
   prob.window_size = nwin;
-  std::unordered_map<long, int> pt_index;
+  // Points seen in the window with >= 2 observations, in the order the window first sees them. A point id is looked
+  // up once: `considered` also holds the rejected ones.
+  std::unordered_set<long> considered;
+  if (nwin > 0) considered.reserve(4 * keyframe_of.front()->point_id.size());
+  std::vector<const MapPoint*> point_of;
   for (int w = 0; w < nwin; ++w) {
-    const Keyframe& kf = *keyframes_.at(prob.keyframe_ids[w]);
-    for (long pid : kf.point_id) {
-      if (pid < 0 || pt_index.count(pid)) continue;
+    for (long pid : keyframe_of[static_cast<size_t>(w)]->point_id) {
+      if (pid < 0 || !considered.insert(pid).second) continue;
       auto pt = points_.find(pid);
       if (pt == points_.end() || pt->second->obs.size() < 2) continue;
-      pt_index[pid] = static_cast<int>(prob.point_ids.size());
       prob.point_ids.push_back(pid);
       prob.points.push_back({pt->second->p_w});
+      point_of.push_back(pt->second.get());
     }
   }
   // Observations; keyframes outside the window that see window points are fixed (gauge).
-  for (size_t pi = 0; pi < prob.point_ids.size(); ++pi) {
-    const MapPoint& mp = *points_.at(prob.point_ids[pi]);
-    for (const auto& o : mp.obs) {
-      auto k = keyframes_.find(o.first);
-      if (k == keyframes_.end()) continue;
+  for (size_t pi = 0; pi < point_of.size(); ++pi) {
+    for (const auto& o : point_of[pi]->obs) {
       auto ki = kf_index.find(o.first);
       int kidx;
-      if (ki == kf_index.end()) {
+      if (ki != kf_index.end()) {
+        kidx = ki->second;
+      } else {
+        auto k = keyframes_.find(o.first);
+        if (k == keyframes_.end()) continue;
         kidx = static_cast<int>(prob.keyframe_ids.size());
         kf_index[o.first] = kidx;
         prob.keyframe_ids.push_back(o.first);
+        keyframe_of.push_back(k->second.get());
         BAKeyframe b;
         b.T_c_w = k->second->T_c_w;
         b.fixed = true;
         prob.keyframes.push_back(b);
-      } else {
-        kidx = ki->second;
       }
-      const cv::KeyPoint& kp = k->second->keypoints[o.second];
-      prob.observations.push_back(
-          {kidx, static_cast<int>(pi), Eigen::Vector2d(kp.pt.x, kp.pt.y), k->second->sigma(kp.octave)});
+      const Keyframe& kf = *keyframe_of[static_cast<size_t>(kidx)];
+      const cv::KeyPoint& kp = kf.keypoints[o.second];
+      prob.observations.push_back({kidx, static_cast<int>(pi), Eigen::Vector2d(kp.pt.x, kp.pt.y), kf.sigma(kp.octave)});
       prob.observation_keypoint.emplace_back(o.first, o.second);
     }
   }

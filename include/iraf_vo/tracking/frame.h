@@ -52,9 +52,19 @@ class Frame {
  private:
   void buildGrid(int width, int height);
 
+  /// A keypoint as the grid search reads it (position and octave next to the index: one cache line per ~4).
+  struct GridEntry {
+    float x, y;
+    int octave;
+    int index;
+  };
+
   double cell_ = 32.0;
   int cols_ = 0, rows_ = 0;
-  std::vector<std::vector<int>> grid_;
+  // Cells in row-major order, each cell's keypoints in keypoint order: cell c holds
+  // grid_entries_[grid_start_[c] .. grid_start_[c + 1]); the cells of one grid row are contiguous.
+  std::vector<int> grid_start_;
+  std::vector<GridEntry> grid_entries_;
 };
 
 }  // namespace iraf_vo

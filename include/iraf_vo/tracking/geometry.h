@@ -25,6 +25,24 @@ inline Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
   return m;
 }
 
+/// One observation's Gauss-Newton terms of 6-dof pose normal equations: the lower triangle (j <= i) of *H gets
+/// w Jp^T Jp and *g gets w Jp^T r, every entry rounded exactly as by Eigen's `H.noalias() += w * Jp.transpose() * Jp`
+/// (w Jp(k, i) first). The strict upper triangle is not touched (copyLowerToUpper after the last observation).
+inline void addWeightedNormalEquations(const Eigen::Matrix<double, 2, 6>& Jp, const Eigen::Vector2d& r, double w,
+                                       Eigen::Matrix<double, 6, 6>* H, Eigen::Matrix<double, 6, 1>* g) {
+  for (int i = 0; i < 6; ++i) {
+    const double wa = w * Jp(0, i), wb = w * Jp(1, i);
+    for (int j = 0; j <= i; ++j) (*H)(i, j) += wa * Jp(0, j) + wb * Jp(1, j);
+    (*g)(i) += wa * r(0) + wb * r(1);
+  }
+}
+
+/// H(i, j) = H(j, i) for j > i.
+inline void copyLowerToUpper(Eigen::Matrix<double, 6, 6>* H) {
+  for (int j = 1; j < 6; ++j)
+    for (int i = 0; i < j; ++i) (*H)(i, j) = (*H)(j, i);
+}
+
 /// Linear (DLT on bearings, [b]x P X = 0) triangulation of a point seen as bearing b1 from T1_c_w and
 /// b2 from T2_c_w. Returns false when the system is degenerate (point at infinity).
 bool triangulateBearings(const Eigen::Isometry3d& T1_c_w, const Eigen::Vector3d& b1,
