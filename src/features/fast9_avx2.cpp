@@ -3,18 +3,9 @@
 // universal intrinsics are used in their AVX2 form (namespace cv::hal_AVX2, as OpenCV's own dispatched code).
 #if defined(IRAF_VO_FAST9_AVX2) && defined(__AVX2__)
 
-#define CV_CPU_DISPATCH_MODE AVX2
-#include <immintrin.h>
-#define CV_SSE3 1
-#define CV_SSSE3 1
-#define CV_SSE4_1 1
-#define CV_SSE4_2 1
-#define CV_POPCNT 1
-#define CV_AVX 1
 #define CV_FP16 1
-#define CV_AVX2 1
 #define CV_FMA3 1
-#include <opencv2/core/hal/intrin.hpp>
+#include "avx2_intrinsics.h"
 
 #include <cstdint>
 

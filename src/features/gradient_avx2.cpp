@@ -3,17 +3,8 @@
 // where the CPU has AVX2 (checked at run time). Same pattern as fast9_avx2.cpp.
 #if defined(IRAF_VO_AVX2_KERNELS) && defined(__AVX2__)
 
-#define CV_CPU_DISPATCH_MODE AVX2
-#include <immintrin.h>
 #include <math.h>
-#define CV_SSE3 1
-#define CV_SSSE3 1
-#define CV_SSE4_1 1
-#define CV_SSE4_2 1
-#define CV_POPCNT 1
-#define CV_AVX 1
-#define CV_AVX2 1
-#include <opencv2/core/hal/intrin.hpp>
+#include "avx2_intrinsics.h"
 
 #include <cstdint>
 

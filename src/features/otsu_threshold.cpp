@@ -8,43 +8,6 @@
 
 namespace iraf_vo {
 
-int otsuThresholdReference(const Histogram256& h) {
-  // N = number of pixels, S = sum of intensities (mu_T = S / N); lo / hi = first / last non-empty bin.
-  // Branch-free sums: cells have ~1000 pixels spread over unpredictable bins.
-  int lo = 0, hi = 255;
-  while (lo < 256 && h[lo] == 0) ++lo;
-  if (lo == 256) return 0;  // empty
-  while (h[hi] == 0) --hi;
-  int64_t n = 0, sum_t = 0;  // over [lo, hi] = over all bins
-  for (int i = lo; i <= hi; ++i) {
-    n += h[i];
-    sum_t += static_cast<int64_t>(i) * h[i];
-  }
-  if (lo == hi) return lo;  // single-valued: no split exists
-  // eq. (16) with P_t = w0 / N and mu_t = s0 / N (w0 = pixels <= t, s0 = their intensity sum):
-  //   sigma_c^2(t) = (mu_T P_t - mu_t)^2 / (P_t (1 - P_t)) = (S w0 - N s0)^2 / (N^2 w0 (N - w0)).
-  // N^2 is constant, so argmax compares num2 / den with num2 = (S w0 - N s0)^2, den = w0 (N - w0)
-  // by cross-multiplication (no division). Bins outside [lo, hi] leave one class empty and are skipped.
-  int64_t w0 = 0, s0 = 0;
-  double best_num2 = -1.0, best_den = 1.0;
-  int t_o = lo, t_last = lo;
-  for (int t = lo; t < hi; ++t) {
-    w0 += h[t];
-    s0 += static_cast<int64_t>(t) * h[t];
-    const double num = static_cast<double>(sum_t * w0 - n * s0);
-    const double num2 = num * num, den = static_cast<double>(w0 * (n - w0));
-    const double lhs = num2 * best_den, rhs = best_num2 * den;
-    if (lhs > rhs * (1.0 + 1e-12)) {  // eq. (17): t_o = argmax_t sigma_c^2(t)
-      best_num2 = num2;
-      best_den = den;
-      t_o = t_last = t;
-    } else if (t_last == t - 1 && lhs >= rhs * (1.0 - 1e-12)) {
-      t_last = t;  // flat maximum (empty bins between the classes): take its middle
-    }
-  }
-  return (t_o + t_last) / 2;
-}
-
 namespace {
 
 // One step of otsuThresholdReference's scan at t (num2, den of eq. 16 cross-multiplied): the same comparisons
@@ -65,6 +28,35 @@ struct OtsuScan {
 };
 
 }  // namespace
+
+int otsuThresholdReference(const Histogram256& h) {
+  // N = number of pixels, S = sum of intensities (mu_T = S / N); lo / hi = first / last non-empty bin.
+  // Branch-free sums: cells have ~1000 pixels spread over unpredictable bins.
+  int lo = 0, hi = 255;
+  while (lo < 256 && h[lo] == 0) ++lo;
+  if (lo == 256) return 0;  // empty
+  while (h[hi] == 0) --hi;
+  int64_t n = 0, sum_t = 0;  // over [lo, hi] = over all bins
+  for (int i = lo; i <= hi; ++i) {
+    n += h[i];
+    sum_t += static_cast<int64_t>(i) * h[i];
+  }
+  if (lo == hi) return lo;  // single-valued: no split exists
+  // eq. (16) with P_t = w0 / N and mu_t = s0 / N (w0 = pixels <= t, s0 = their intensity sum):
+  //   sigma_c^2(t) = (mu_T P_t - mu_t)^2 / (P_t (1 - P_t)) = (S w0 - N s0)^2 / (N^2 w0 (N - w0)).
+  // N^2 is constant, so argmax compares num2 / den with num2 = (S w0 - N s0)^2, den = w0 (N - w0)
+  // by cross-multiplication (no division). Bins outside [lo, hi] leave one class empty and are skipped.
+  int64_t w0 = 0, s0 = 0;
+  OtsuScan scan;
+  scan.t_o = scan.t_last = lo;
+  for (int t = lo; t < hi; ++t) {
+    w0 += h[t];
+    s0 += static_cast<int64_t>(t) * h[t];
+    const double num = static_cast<double>(sum_t * w0 - n * s0);
+    scan.step(t, num * num, static_cast<double>(w0 * (n - w0)));
+  }
+  return (scan.t_o + scan.t_last) / 2;
+}
 
 int otsuThreshold(const Histogram256& h) {
   // lo / hi = first / last non-empty bin (4 bins at a time, then within the vector).
