@@ -75,8 +75,8 @@ Motion refineMotion(const std::vector<Eigen::Vector2d>& p1, const std::vector<Ei
 }  // namespace
 
 MotionAmbiguity findTranslationAmbiguity(const std::vector<Eigen::Vector2d>& p1, const std::vector<Eigen::Vector2d>& p2,
-                                const Eigen::Matrix3d& R, const Eigen::Vector3d& t, double focal,
-                                const MotionAmbiguityParams& params) {
+                                         const Eigen::Matrix3d& R, const Eigen::Vector3d& t, double focal,
+                                         const MotionAmbiguityParams& params) {
   MotionAmbiguity out;
   if (p1.size() != p2.size() || p1.size() < 8 || !(t.norm() > 1e-12)) return out;
   const double sigma = params.sigma_px;
@@ -110,6 +110,13 @@ MotionAmbiguity findTranslationAmbiguity(const std::vector<Eigen::Vector2d>& p1,
   const Eigen::Vector2d w = eig.eigenvectors().col(0);
   const Eigen::Vector3d weak = w(0) * a + w(1) * b;
   out.profile_chi2 = std::numeric_limits<double>::infinity();
+  auto consider = [&](double p, double angle_deg, const Motion& m) {  // keeps the best other motion
+    if (angle_deg < params.min_angle_deg || !(p < out.profile_chi2)) return;
+    out.profile_chi2 = p;
+    out.angle_deg = angle_deg;
+    out.R_other = m.q.toRotationMatrix();
+    out.t_other = m.t;
+  };
   // Along the weakest direction, both ways, following the valley (each step starts from the previous rotation).
   for (double sign : {1.0, -1.0}) {
     Eigen::Quaterniond q = best.q;
@@ -117,12 +124,7 @@ MotionAmbiguity findTranslationAmbiguity(const std::vector<Eigen::Vector2d>& p1,
       Motion m;
       const double p = profile(q, tilted(sign * weak, deg), &m);
       q = m.q;
-      if (deg >= params.min_angle_deg && p < out.profile_chi2) {
-        out.profile_chi2 = p;
-        out.angle_deg = deg;
-        out.R_other = m.q.toRotationMatrix();
-        out.t_other = m.t;
-      }
+      consider(p, deg, m);
     }
   }
   // A second minimum off the valley: free refinements from 8 restarts (4 directions, tilted 45 and 90 deg).
@@ -132,15 +134,9 @@ MotionAmbiguity findTranslationAmbiguity(const std::vector<Eigen::Vector2d>& p1,
       const Motion m = refineMotion(p1, p2, Motion{best.q, tilted(std::cos(phi) * a + std::sin(phi) * b, deg)}, focal,
                                     sigma);
       const double angle = std::acos(std::min(1.0, std::abs(m.t.normalized().dot(best.t)))) * 180.0 / M_PI;
-      const double p = (m.chi2 - best.chi2) / s2;
-      if (angle >= params.min_angle_deg && p < out.profile_chi2) {
-        out.profile_chi2 = p;
-        out.angle_deg = angle;
-        out.R_other = m.q.toRotationMatrix();
-        out.t_other = m.t;
-      }
+      consider((m.chi2 - best.chi2) / s2, angle, m);
     }
-  out.ambiguous = out.profile_chi2 < params.max_delta_chi2;
+  out.ambiguous = params.max_delta_chi2 > 0.0 && out.profile_chi2 < params.max_delta_chi2;
   return out;
 }
 
