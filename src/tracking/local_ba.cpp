@@ -2,6 +2,7 @@
 #include <iraf_vo/tracking/map.h>
 
 #include <algorithm>
+#include <cmath>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -36,6 +37,28 @@ double windowExtent(const LocalBAProblem& prob) {
   for (int k = 1; k < prob.window_size; ++k)
     extent = std::max(extent, (prob.keyframes[k].T_c_w.inverse().translation() - newest).norm());
   return extent;
+}
+
+double anchorBaseline(const LocalBAProblem& prob) {
+  if (prob.scale_anchor < 1) return 0.0;
+  const auto centre = [&](int k) -> Eigen::Vector3d {
+    return prob.keyframes[static_cast<size_t>(k)].T_c_w.inverse().translation();
+  };
+  return (centre(prob.scale_anchor - 1) - centre(prob.scale_anchor)).norm();
+}
+
+void holdScaleAboutAnchor(LocalBAProblem* prob, double baseline) {
+  const double now = anchorBaseline(*prob);
+  if (!(now > 1e-12) || !(baseline > 0)) return;
+  const double s = baseline / now;
+  const Eigen::Vector3d c0 = prob->keyframes[static_cast<size_t>(prob->scale_anchor)].T_c_w.inverse().translation();
+  // x -> c0 + s (x - c0) in the world; a camera keeps its rotation, its centre moves the same way.
+  for (auto& k : prob->keyframes) {
+    if (k.fixed) continue;
+    const Eigen::Vector3d c = k.T_c_w.inverse().translation();
+    k.T_c_w.translation() = -(k.T_c_w.linear() * (c0 + s * (c - c0)));
+  }
+  for (auto& p : prob->points) p.p_w = c0 + s * (p.p_w - c0);
 }
 
 // Map's side of the local BA: building the problem and merging the result, each under the map lock.
@@ -98,7 +121,14 @@ LocalBAProblem Map::localBAProblem(int window_size, double min_fixed_span) const
       prob.observation_keypoint.emplace_back(o.first, o.second);
     }
   }
-  fixMonocularGauge(&prob.keyframes, nwin, min_fixed_span);
+  const bool anchored_outside = std::any_of(prob.keyframes.begin(), prob.keyframes.end(),
+                                            [](const BAKeyframe& k) { return k.fixed; });
+  if (!anchored_outside && nwin >= 2) {
+    prob.scale_anchor = nwin - 1;
+    prob.keyframes[static_cast<size_t>(nwin - 1)].fixed = true;
+  } else {
+    fixMonocularGauge(&prob.keyframes, nwin, min_fixed_span);
+  }
   return prob;
 }
 

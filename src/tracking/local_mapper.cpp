@@ -177,7 +177,9 @@ void LocalMapper::localBundleAdjustment() {
   options.abort = p_.mapping_thread ? &abort_ba_ : nullptr;
   BASummary summary;
   const double before = windowExtent(prob);
+  const double baseline = anchorBaseline(prob);
   const bool ok = bundleAdjust(cam_, &prob.keyframes, &prob.points, prob.observations, options, &summary);
+  if (ok && prob.scale_anchor >= 0) holdScaleAboutAnchor(&prob, baseline);
   {
     std::lock_guard<std::mutex> lk(stats_mutex_);
     stats_.ba_runs++;

@@ -12,6 +12,7 @@
 
 #include <chrono>
 #include <future>
+#include <random>
 
 namespace iraf_vo {
 namespace {
@@ -128,13 +129,81 @@ TEST(LocalBA, WindowIsTheNewestKeyframesWithOutsideObserversFixed) {
   for (size_t k = 3; k < 6; ++k) EXPECT_TRUE(prob.keyframes[k].fixed) << k;
   EXPECT_EQ(prob.point_ids.size(), 40u);
   EXPECT_EQ(prob.observations.size(), 40u * 6u);
-  // A window covering the whole map: the gauge comes from the window's oldest keyframes.
+  EXPECT_EQ(prob.scale_anchor, -1) << "anchored by keyframes outside the window";
+  // A window covering the whole map: only its oldest keyframe is fixed, the scale is held about it.
   const LocalBAProblem all = hb.map.localBAProblem(10, 0.3);
   EXPECT_EQ(all.window_size, 6);
   int fixed = 0;
   for (const auto& k : all.keyframes) fixed += k.fixed;
-  EXPECT_GE(fixed, 2);
-  EXPECT_FALSE(all.keyframes[0].fixed);
+  EXPECT_EQ(fixed, 1);
+  EXPECT_EQ(all.scale_anchor, 5);
+  EXPECT_TRUE(all.keyframes[5].fixed);
+}
+
+// A young map (the window is the whole map): the error of the second keyframe's pose from a low-parallax
+// initialization must be corrected by local BA. With the oldest two keyframes fixed (the gauge used for
+// windows anchored by older keyframes) it stays; with one fixed keyframe and the scale held about its centre it
+// goes, and the rescaling is a pure gauge change (reprojection errors unchanged).
+TEST(LocalBA, YoungMapCorrectsTheInitialBaselineAndHoldsItsScale) {
+  test::TestPinhole cam(752, 480, 450.0, 376.0, 240.0);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> ux(-2, 2), uy(-1.5, 1.5), uz(3, 7);
+  LocalBAProblem truth;
+  truth.window_size = 5;
+  for (int k = 0; k < 5; ++k) {  // newest first; the oldest (index 4) at the origin
+    BAKeyframe b;
+    b.T_c_w = test::makePose({0.5 * (4 - k), -1.0 * (4 - k), 0.0}, {0.1 * (4 - k), 0.02 * (4 - k), 0.0}).inverse();
+    truth.keyframes.push_back(b);
+  }
+  for (int i = 0; i < 150; ++i) {
+    const Eigen::Vector3d p(ux(rng), uy(rng), uz(rng));
+    truth.points.push_back({p});
+    for (int k = 0; k < 5; ++k) {
+      Eigen::Vector2d uv;
+      if (cam.project(truth.keyframes[k].T_c_w * p, &uv)) truth.observations.push_back({k, i, uv, 1.0});
+    }
+  }
+  truth.scale_anchor = 4;
+  truth.keyframes[4].fixed = true;
+  // Initialization error: the second keyframe's centre 8 deg off its true direction from the first, 1 cm off in
+  // length; the rest of the map consistent with it as far as tracking made it (not at all here: truth).
+  LocalBAProblem start = truth;
+  const Eigen::Vector3d c1 = start.keyframes[3].T_c_w.inverse().translation();
+  const Eigen::Vector3d c1_bad = Eigen::AngleAxisd(8.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()) * c1 * 1.1;
+  start.keyframes[3].T_c_w.translation() = -(start.keyframes[3].T_c_w.linear() * c1_bad);
+  auto centreError = [&](const LocalBAProblem& p, int k) {
+    return (p.keyframes[k].T_c_w.inverse().translation() - truth.keyframes[k].T_c_w.inverse().translation()).norm();
+  };
+  BAOptions opt;
+  opt.max_num_iterations = 30;
+  opt.max_solver_time_in_seconds = 5.0;
+  // Old gauge: the oldest two fixed.
+  LocalBAProblem two = start;
+  two.keyframes[3].fixed = true;
+  two.scale_anchor = -1;
+  ASSERT_TRUE(bundleAdjust(cam, &two.keyframes, &two.points, two.observations, opt, nullptr));
+  EXPECT_GT(centreError(two, 3), 0.01) << "a fixed second keyframe keeps its initialization error";
+  // Young-map gauge.
+  LocalBAProblem one = start;
+  const double spread = anchorBaseline(one);
+  ASSERT_GT(spread, 0.0);
+  ASSERT_TRUE(bundleAdjust(cam, &one.keyframes, &one.points, one.observations, opt, nullptr));
+  holdScaleAboutAnchor(&one, spread);
+  EXPECT_NEAR(anchorBaseline(one), spread, 1e-9 * spread);
+  EXPECT_LT((one.keyframes[4].T_c_w.matrix() - truth.keyframes[4].T_c_w.matrix()).norm(), 1e-12);
+  EXPECT_LT(reprojectionRmse(cam, one.keyframes, one.points, one.observations), 1e-3);
+  // Up to the scale the young map chose (its spread came from the erroneous start), every keyframe is right.
+  const double s = anchorBaseline(truth) / spread;
+  for (int k = 0; k < 4; ++k) {
+    const Eigen::Vector3d c = one.keyframes[k].T_c_w.inverse().translation() * s;
+    EXPECT_LT((c - truth.keyframes[k].T_c_w.inverse().translation()).norm(), 1e-4) << k;
+    EXPECT_LT(test::rotationErrorDeg(one.keyframes[k].T_c_w.rotation(), truth.keyframes[k].T_c_w.rotation()), 0.01);
+  }
+  // The rescaling itself is a gauge change: errors unchanged, spread as asked.
+  const double e_before = reprojectionRmse(cam, start.keyframes, start.points, start.observations);
+  holdScaleAboutAnchor(&start, 2.0 * spread);
+  EXPECT_NEAR(anchorBaseline(start), 2.0 * spread, 1e-9 * spread);
+  EXPECT_NEAR(reprojectionRmse(cam, start.keyframes, start.points, start.observations), e_before, 1e-9);
 }
 
 TEST(LocalBA, OutlierObservationsAreRemovedAndPosesWrittenBack) {
