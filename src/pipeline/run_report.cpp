@@ -57,7 +57,7 @@ void RunRecorder::add(const FrontEndItem& it, const TrackResult& r, long process
   ms_["track_keyframe"].push_back(r.timing.ms_keyframe);
   if (r.timing.ms_init > 0) ms_["track_init"].push_back(r.timing.ms_init);
   if (r.state == TrackingState::kTracking) trajectory_.push_back(it.frame.stamp, r.T_w_c);
-  anchored_.addFrame(it.frame.stamp, r);
+  if (keep_final_) anchored_.addFrame(it.frame.stamp, r);
   if (processed % 500 == 0) rss_.emplace_back(processed, rssMiB());
 }
 

@@ -203,6 +203,8 @@ int main(int argc, char** argv) {
   const long n_run = std::max<long>(0, opts.last - opts.first);
 
   iraf_vo::RunRecorder recorder;
+  const bool keep_final = !a.out_final.empty() || !a.gt_path.empty();  // the trajectory after mapping
+  recorder.keepFinalTrajectory(keep_final);
   if (!a.frame_log_path.empty() && !recorder.openFrameLog(a.frame_log_path, &err))
     return std::fprintf(stderr, "iraf_vo_run: --frame-log %s\n", err.c_str()), 1;
 
@@ -245,7 +247,7 @@ int main(int argc, char** argv) {
 
   if (!iraf_vo::writeTumTrajectory(a.out, recorder.trajectory(), &err))
     return std::fprintf(stderr, "iraf_vo_run: --out %s: %s\n", a.out.c_str(), err.c_str()), 1;
-  const iraf_vo::Trajectory final_trajectory = recorder.finalTrajectory();
+  const iraf_vo::Trajectory final_trajectory = keep_final ? recorder.finalTrajectory() : iraf_vo::Trajectory();
   if (!a.out_final.empty() && !iraf_vo::writeTumTrajectory(a.out_final, final_trajectory, &err))
     return std::fprintf(stderr, "iraf_vo_run: --out-final %s: %s\n", a.out_final.c_str(), err.c_str()), 1;
   totals.dataset = a.dataset;

@@ -48,8 +48,13 @@ class RunRecorder {
   void add(const FrontEndItem& item, const TrackResult& r, long processed);
 
   const Trajectory& trajectory() const { return trajectory_; }
+  /// Keep what the trajectory after mapping needs (each frame's keyframe-relative pose); off by default, so a run
+  /// without --out-final / --gt holds one pose per frame only.
+  void keepFinalTrajectory(bool keep) { keep_final_ = keep; }
   /// Keyframe poses for the trajectory after mapping (call with Tracker::keyframePoses()).
-  void updateKeyframes(const std::vector<KeyframePose>& keyframes) { anchored_.updateKeyframes(keyframes); }
+  void updateKeyframes(const std::vector<KeyframePose>& keyframes) {
+    if (keep_final_) anchored_.updateKeyframes(keyframes);
+  }
   Trajectory finalTrajectory() const { return anchored_.build(); }
   /// "frames N, tracked ..." + per-stage table + RSS + ATE, as iraf_vo_run prints it.
   std::string summary(const RunTotals& t) const;
@@ -65,6 +70,7 @@ class RunRecorder {
   std::vector<std::pair<long, double>> rss_;  // (frames processed, MiB)
   Trajectory trajectory_;
   KeyframeAnchoredTrajectory anchored_;
+  bool keep_final_ = false;
 };
 
 /// The progress line on a terminal ("\r[####....] n/N fps state kps inl") or, without one, a line every 100 frames.
