@@ -316,8 +316,13 @@ void checkTranslationAmbiguity(const ForwardMatches& m, double focal, const TwoV
   if (!a.ambiguous) return;
   res->ok = false;
   char buf[160];
-  std::snprintf(buf, sizeof(buf), "essential: translation not determined (a direction %.0f deg away: profile chi2 %.1f < %.2f)",
-                a.angle_deg, a.profile_chi2, params.ambiguity_max_chi2);
+  if (a.refined_shift_deg >= ap.min_angle_deg)
+    std::snprintf(buf, sizeof(buf), "essential: translation not determined (refined on all matches it moves %.0f deg)",
+                  a.refined_shift_deg);
+  else
+    std::snprintf(buf, sizeof(buf),
+                  "essential: translation not determined (a direction %.0f deg away: profile chi2 %.1f < %.2f)",
+                  a.angle_deg, a.profile_chi2, params.ambiguity_max_chi2);
   res->reason = buf;
 }
 
@@ -364,7 +369,8 @@ TwoViewResult initializeTwoView(const std::vector<Eigen::Vector3d>& b1, const st
     }
   }
   if (best) refineTwoView(*best, m, focal, params, &res);
-  if (res.ok && res.model == "essential" && params.ambiguity_max_chi2 > 0.0) checkTranslationAmbiguity(m, focal, params, &res);
+  if (res.ok && res.model == "essential" && params.ambiguity_max_chi2 > 0.0)
+    checkTranslationAmbiguity(m, focal, params, &res);
   if (!res.ok) {
     char buf[96];
     std::snprintf(buf, sizeof(buf), " [R_H %.2f; inliers E %d H %d]", rh,

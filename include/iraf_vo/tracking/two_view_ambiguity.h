@@ -25,6 +25,8 @@ struct MotionAmbiguity {
   double profile_chi2 = 0.0;  // lowest profile chi2 at >= min_angle_deg along the valley (< 0: a better minimum)
   double angle_deg = 0.0;     // where it was found
   double sigma_est_px = 0.0;  // noise estimated from the refined motion's residuals
+  double refined_shift_deg = 0.0;  // angle between the chosen translation and the refined one (>= min_angle_deg:
+                                   // ambiguous too: the chosen motion is not a minimum of the robust cost)
   Eigen::Matrix3d R_other = Eigen::Matrix3d::Identity();  // the motion there
   Eigen::Vector3d t_other = Eigen::Vector3d::Zero();
 };
