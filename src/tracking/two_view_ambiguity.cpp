@@ -72,6 +72,11 @@ Motion refineMotion(const std::vector<Eigen::Vector2d>& p1, const std::vector<Ei
   return m;
 }
 
+// Angle between the lines of two translations (E fixes t up to sign), degrees.
+double lineAngleDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::acos(std::min(1.0, std::abs(a.normalized().dot(b.normalized())))) * 180.0 / M_PI;
+}
+
 }  // namespace
 
 MotionAmbiguity findTranslationAmbiguity(const std::vector<Eigen::Vector2d>& p1, const std::vector<Eigen::Vector2d>& p2,
@@ -83,8 +88,16 @@ MotionAmbiguity findTranslationAmbiguity(const std::vector<Eigen::Vector2d>& p1,
   const Motion best = refineMotion(p1, p2, Motion{Eigen::Quaterniond(R), t.normalized()}, focal, sigma);
   // The chosen motion must be (near) a minimum of the robust epipolar cost of all matches: refined, its
   // translation moving by min_angle_deg or more means the matches do not pin it down (seen: RANSAC's motion 56 deg
-  // off the truth, the refined one 20 deg off, at 1 deg parallax and 2 px noise).
-  out.refined_shift_deg = std::acos(std::min(1.0, std::abs(best.t.normalized().dot(t.normalized())))) * 180.0 / M_PI;
+  // off the truth, the refined one 20 deg off, at 1 deg parallax and 2 px noise). The refined motion is then the
+  // other motion (at profile chi2 0: it explains the matches better), and the search below is not needed.
+  out.refined_shift_deg = lineAngleDeg(best.t, t);
+  if (params.max_delta_chi2 > 0.0 && out.refined_shift_deg >= params.min_angle_deg) {
+    out.ambiguous = true;
+    out.angle_deg = out.refined_shift_deg;
+    out.R_other = best.q.toRotationMatrix();
+    out.t_other = best.t;
+    return out;
+  }
   const double s2 = std::max(1e-12, best.chi2 / std::max<double>(1, p1.size() - 5));
   out.sigma_est_px = std::sqrt(s2) * sigma;
   const Eigen::Vector3d a = best.t.unitOrthogonal(), b = best.t.cross(a);
@@ -137,11 +150,9 @@ MotionAmbiguity findTranslationAmbiguity(const std::vector<Eigen::Vector2d>& p1,
       const double phi = k * M_PI / 2.0;
       const Motion m = refineMotion(p1, p2, Motion{best.q, tilted(std::cos(phi) * a + std::sin(phi) * b, deg)}, focal,
                                     sigma);
-      const double angle = std::acos(std::min(1.0, std::abs(m.t.normalized().dot(best.t)))) * 180.0 / M_PI;
-      consider((m.chi2 - best.chi2) / s2, angle, m);
+      consider((m.chi2 - best.chi2) / s2, lineAngleDeg(m.t, best.t), m);
     }
-  out.ambiguous = params.max_delta_chi2 > 0.0 &&
-                  (out.profile_chi2 < params.max_delta_chi2 || out.refined_shift_deg >= params.min_angle_deg);
+  out.ambiguous = params.max_delta_chi2 > 0.0 && out.profile_chi2 < params.max_delta_chi2;
   return out;
 }
 

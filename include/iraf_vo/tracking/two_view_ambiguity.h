@@ -25,8 +25,9 @@ struct MotionAmbiguity {
   double profile_chi2 = 0.0;  // lowest profile chi2 at >= min_angle_deg along the valley (< 0: a better minimum)
   double angle_deg = 0.0;     // where it was found
   double sigma_est_px = 0.0;  // noise estimated from the refined motion's residuals
-  double refined_shift_deg = 0.0;  // angle between the chosen translation and the refined one (>= min_angle_deg:
-                                   // ambiguous too: the chosen motion is not a minimum of the robust cost)
+  double refined_shift_deg = 0.0;  // angle between the chosen translation and the refined one; >= min_angle_deg:
+                                   // ambiguous (the chosen motion is no minimum of the robust cost), the refined
+                                   // motion is the other one (profile chi2 0) and nothing else is searched
   Eigen::Matrix3d R_other = Eigen::Matrix3d::Identity();  // the motion there
   Eigen::Vector3d t_other = Eigen::Vector3d::Zero();
 };
@@ -34,7 +35,8 @@ struct MotionAmbiguity {
 /// p1, p2: normalized image coordinates (x/z, y/z) of the matches (a robust loss handles outliers); (R, t): the
 /// chosen motion, x2 = R x1 + t; focal converts to pixels. Refines (R, t) on the Sampson errors, estimates the
 /// profile's weakest direction from 4 small tilts, follows it both ways (min_angle_deg, 45, 90 deg), and
-/// refines (R, t) freely from 8 restarts (4 directions tilted 45 and 90 deg) for a second minimum.
+/// refines (R, t) freely from 8 restarts (4 directions tilted 45 and 90 deg) for a second minimum. If the refinement
+/// of (R, t) itself moves the translation by >= min_angle_deg, that alone makes it ambiguous.
 MotionAmbiguity findTranslationAmbiguity(const std::vector<Eigen::Vector2d>& p1, const std::vector<Eigen::Vector2d>& p2,
                                          const Eigen::Matrix3d& R, const Eigen::Vector3d& t, double focal,
                                          const MotionAmbiguityParams& params);
