@@ -19,6 +19,7 @@ int rowMaxima(const uint8_t* a, const uint8_t* b, const uint8_t* c, const uint8_
 #if defined(IRAF_VO_FAST9_AVX512)
 namespace fast9_avx512 {
 int rowCorners(const uint8_t* row, const int* off, const uint8_t* th, int cols, uint8_t* curr, int* pos);
+int rowMaxima(const uint8_t* a, const uint8_t* b, const uint8_t* c, const uint8_t* walls, int cols, int* out);
 }  // namespace fast9_avx512
 #endif
 
@@ -35,10 +36,14 @@ struct RowKernels {
 };
 
 #if defined(IRAF_VO_FAST9_AVX2) && defined(IRAF_VO_FAST9_AVX512)
-// AVX-512BW corners (64 lanes) on rows of >= 64 detection columns, AVX2 on narrower ones (cell retries).
+// AVX-512BW corners and maxima (64 lanes) on rows of >= 64 detection columns, AVX2 on narrower ones (cell retries).
 int rowCornersAvx512(const uint8_t* row, const int* off, const uint8_t* th, int cols, uint8_t* curr, int* pos) {
   const int n = fast9_avx512::rowCorners(row, off, th, cols, curr, pos);
   return n >= 0 ? n : fast9_avx2::rowCorners(row, off, th, cols, curr, pos);
+}
+int rowMaximaAvx512(const uint8_t* a, const uint8_t* b, const uint8_t* c, const uint8_t* walls, int cols, int* out) {
+  const int n = fast9_avx512::rowMaxima(a, b, c, walls, cols, out);
+  return n >= 0 ? n : fast9_avx2::rowMaxima(a, b, c, walls, cols, out);
 }
 #endif
 
@@ -48,7 +53,7 @@ RowKernels pickRowKernels(bool avx2_allowed, bool avx512_allowed) {
 #if defined(IRAF_VO_FAST9_AVX2)
 #if defined(IRAF_VO_FAST9_AVX512)
   if (avx2_allowed && avx512_allowed && __builtin_cpu_supports("avx2") && __builtin_cpu_supports("avx512bw"))
-    return {rowCornersAvx512, fast9_avx2::rowMaxima};
+    return {rowCornersAvx512, rowMaximaAvx512};
 #endif
   if (avx2_allowed && __builtin_cpu_supports("avx2")) return {fast9_avx2::rowCorners, fast9_avx2::rowMaxima};
 #endif

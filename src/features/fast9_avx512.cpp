@@ -1,4 +1,4 @@
-// FAST-9 corner test and score of one image row with AVX-512BW: 64 lanes per block, comparisons into mask
+// FAST-9 corner test and score of one image row, and its non-max suppression, with AVX-512BW: 64 lanes per block, comparisons into mask
 // registers (the run lengths advance by a masked add instead of compare + add + and). Same corners and scores
 // as fast9_row.inl (every lane depends only on its own pixel and column threshold; the arithmetic below is
 // that file's, lane by lane). CMake builds this file with -mavx512f -mavx512bw on x86-64 only; detectFast9
@@ -76,7 +76,43 @@ inline __attribute__((always_inline)) void cornerBlock(const uint8_t* row, const
   }
 }
 
+// 3x3 non-max suppression of columns j0 .. j0 + 63 of score row b (fast9_row.inl nmsBlock): kept iff the score
+// is > every neighbour's, neighbours across a wall ignored; lanes below column `from` were done before.
+inline __attribute__((always_inline)) void nmsBlock(const uint8_t* a, const uint8_t* b, const uint8_t* c,
+                                                    const uint8_t* walls, int j0, int from, int* out, int* n) {
+  const __m512i s = at(b, j0);
+  const uint64_t fresh = ~((uint64_t{1} << (from - j0)) - 1u);
+  uint64_t keep = _mm512_test_epi8_mask(s, s) & fresh;  // corners (score > 0)
+  if (keep == 0) return;
+  keep &= _mm512_cmpgt_epu8_mask(s, at(a, j0)) & _mm512_cmpgt_epu8_mask(s, at(c, j0));
+  uint64_t left = _mm512_cmpgt_epu8_mask(s, at(a, j0 - 1)) & _mm512_cmpgt_epu8_mask(s, at(b, j0 - 1)) &
+                  _mm512_cmpgt_epu8_mask(s, at(c, j0 - 1));
+  uint64_t right = _mm512_cmpgt_epu8_mask(s, at(a, j0 + 1)) & _mm512_cmpgt_epu8_mask(s, at(b, j0 + 1)) &
+                   _mm512_cmpgt_epu8_mask(s, at(c, j0 + 1));
+  if (walls) {
+    const __m512i w = at(walls, j0);
+    left |= _mm512_test_epi8_mask(w, _mm512_set1_epi8(1));
+    right |= _mm512_test_epi8_mask(w, _mm512_set1_epi8(2));
+  }
+  keep &= left & right;
+  while (keep) {
+    out[(*n)++] = j0 + __builtin_ctzll(keep);
+    keep &= keep - 1;
+  }
+}
+
 }  // namespace
+
+/// fast9_row.inl's rowMaxima for rows with cols - 6 >= 64 (columns [3, cols - 3)); returns -1 without touching
+/// anything for narrower rows.
+int rowMaxima(const uint8_t* a, const uint8_t* b, const uint8_t* c, const uint8_t* walls, int cols, int* out) {
+  const int end = cols - 3;
+  if (end - 3 < kW) return -1;
+  int n = 0, j = 3;
+  for (; j + kW <= end; j += kW) nmsBlock(a, b, c, walls, j, j, out, &n);
+  if (j < end) nmsBlock(a, b, c, walls, end - kW, j, out, &n);
+  return n;
+}
 
 /// fast9_row.inl's rowCorners for rows with cols - 6 >= 64 (columns [3, cols - 3), the last block overlapping
 /// the previous one); returns -1 without touching anything for narrower rows.
