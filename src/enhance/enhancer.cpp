@@ -117,7 +117,18 @@ BrightnessClass classifyBrightness(double mu, const EnhanceParams& cfg, double* 
   return tt < 0.0 ? BrightnessClass::kDim : BrightnessClass::kBright;
 }
 
+#if defined(IRAF_VO_AVX512_KERNELS)
+namespace blend_avx512 {
+int blendRow(const uint8_t* pi, const uint8_t* pb, const uint8_t* pg, float wi, float wb, float wg, int n,
+             uint8_t* po);
+}  // namespace blend_avx512
+#endif
+
 namespace {
+
+#if defined(IRAF_VO_AVX512_KERNELS)
+bool g_blend_avx512 = __builtin_cpu_supports("avx512bw");
+#endif
 
 void applyLut(const cv::Mat& src, const std::array<uint8_t, 256>& lut, bool inverted, cv::Mat& dst) {
   // For bright images the LUT was built on the inverted histogram: dst = 255 - lut[255 - src].
@@ -131,6 +142,9 @@ void applyLut(const cv::Mat& src, const std::array<uint8_t, 256>& lut, bool inve
 void blendRow(const uint8_t* pi, const uint8_t* pb, const uint8_t* pg, float wi, float wb, float wg, int n,
               uint8_t* po) {
   int c = 0;
+#if defined(IRAF_VO_AVX512_KERNELS)
+  if (g_blend_avx512) c = blend_avx512::blendRow(pi, pb, pg, wi, wb, wg, n, po);
+#endif
 #if CV_SIMD128
   const cv::v_float32x4 vwi = cv::v_setall_f32(wi), vwb = cv::v_setall_f32(wb), vwg = cv::v_setall_f32(wg);
   const cv::v_float32x4 half = cv::v_setall_f32(0.5f), lo = cv::v_setzero_f32(), hi = cv::v_setall_f32(255.f);
@@ -165,6 +179,16 @@ void blendRow(const uint8_t* pi, const uint8_t* pb, const uint8_t* pg, float wi,
 }
 
 }  // namespace
+
+bool enhanceBlendUseAvx512(bool allowed) {
+#if defined(IRAF_VO_AVX512_KERNELS)
+  g_blend_avx512 = allowed && __builtin_cpu_supports("avx512bw");
+  return g_blend_avx512;
+#else
+  (void)allowed;
+  return false;
+#endif
+}
 
 EnhanceResult Enhancer::enhance(const cv::Mat& gray, const EnhanceParams& cfg) {
   const auto t0 = SteadyClock::now();

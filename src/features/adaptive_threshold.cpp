@@ -3,23 +3,36 @@
 #include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <cstring>
+
 namespace iraf_vo {
 
 void accumulateHistogram(const cv::Mat& gray, Histogram256* h) {
   CV_Assert(gray.type() == CV_8UC1);
-  // Two interleaved sub-histograms (*h itself and b) break the store->load dependency on repeated values.
-  uint32_t* a = h->data();
-  uint32_t b[256] = {0};
+  // Four interleaved sub-histograms (column c counts in t[c % 4]) break the store->load dependency on repeated
+  // values; each row is read 8 pixels per load. (Two sub-histograms and byte loads: 1.5x slower on EuRoC cells.)
+  alignas(64) uint32_t t[4][256];
+  std::memset(t, 0, sizeof(t));
+  const int cols = gray.cols;
   for (int r = 0; r < gray.rows; ++r) {
     const uint8_t* p = gray.ptr<uint8_t>(r);
     int c = 0;
-    for (; c + 1 < gray.cols; c += 2) {
-      ++a[p[c]];
-      ++b[p[c + 1]];
+    for (; c + 8 <= cols; c += 8) {
+      uint64_t w;
+      std::memcpy(&w, p + c, 8);  // any byte order: it only decides which sub-histogram counts a pixel
+      ++t[0][w & 255];
+      ++t[1][(w >> 8) & 255];
+      ++t[2][(w >> 16) & 255];
+      ++t[3][(w >> 24) & 255];
+      ++t[0][(w >> 32) & 255];
+      ++t[1][(w >> 40) & 255];
+      ++t[2][(w >> 48) & 255];
+      ++t[3][w >> 56];
     }
-    if (c < gray.cols) ++a[p[c]];
+    for (; c < cols; ++c) ++t[c & 3][p[c]];
   }
-  for (int i = 0; i < 256; ++i) a[i] += b[i];
+  uint32_t* a = h->data();
+  for (int i = 0; i < 256; ++i) a[i] += t[0][i] + t[1][i] + t[2][i] + t[3][i];
 }
 
 double histogramEntropy(const Histogram256& h) {

@@ -16,6 +16,12 @@ int rowCorners(const uint8_t* row, const int* off, const uint8_t* th, int cols, 
 int rowMaxima(const uint8_t* a, const uint8_t* b, const uint8_t* c, const uint8_t* walls, int cols, int* out);
 }  // namespace fast9_avx2
 #endif
+#if defined(IRAF_VO_FAST9_AVX512)
+namespace fast9_avx512 {
+int rowCorners(const uint8_t* row, const int* off, const uint8_t* th, int cols, uint8_t* curr, int* pos);
+int rowMaxima(const uint8_t* a, const uint8_t* b, const uint8_t* c, const uint8_t* walls, int cols, int* out);
+}  // namespace fast9_avx512
+#endif
 
 namespace {
 
@@ -29,23 +35,51 @@ struct RowKernels {
   int (*maxima)(const uint8_t*, const uint8_t*, const uint8_t*, const uint8_t*, int, int*);
 };
 
-// The row kernels for this CPU: AVX2 (32 lanes) where available, else the baseline build (16 lanes).
-// Same corners and scores either way.
-RowKernels pickRowKernels(bool avx2_allowed) {
+#if defined(IRAF_VO_FAST9_AVX2) && defined(IRAF_VO_FAST9_AVX512)
+// AVX-512BW corners and maxima (64 lanes) on rows of >= 64 detection columns, AVX2 on narrower ones (cell retries).
+int rowCornersAvx512(const uint8_t* row, const int* off, const uint8_t* th, int cols, uint8_t* curr, int* pos) {
+  const int n = fast9_avx512::rowCorners(row, off, th, cols, curr, pos);
+  return n >= 0 ? n : fast9_avx2::rowCorners(row, off, th, cols, curr, pos);
+}
+int rowMaximaAvx512(const uint8_t* a, const uint8_t* b, const uint8_t* c, const uint8_t* walls, int cols, int* out) {
+  const int n = fast9_avx512::rowMaxima(a, b, c, walls, cols, out);
+  return n >= 0 ? n : fast9_avx2::rowMaxima(a, b, c, walls, cols, out);
+}
+#endif
+
+// The row kernels for this CPU: AVX-512BW corners (64 lanes) where allowed and available, else AVX2 (32 lanes)
+// where available, else the baseline build (16 lanes). Same corners and scores either way.
+RowKernels pickRowKernels(bool avx2_allowed, bool avx512_allowed) {
 #if defined(IRAF_VO_FAST9_AVX2)
+#if defined(IRAF_VO_FAST9_AVX512)
+  if (avx2_allowed && avx512_allowed && __builtin_cpu_supports("avx2") && __builtin_cpu_supports("avx512bw"))
+    return {rowCornersAvx512, rowMaximaAvx512};
+#endif
   if (avx2_allowed && __builtin_cpu_supports("avx2")) return {fast9_avx2::rowCorners, fast9_avx2::rowMaxima};
 #endif
   (void)avx2_allowed;
+  (void)avx512_allowed;
   return {fast9_baseline::rowCorners, fast9_baseline::rowMaxima};
 }
 
-RowKernels g_kernels = pickRowKernels(true);
+bool g_avx512_allowed = true;
+RowKernels g_kernels = pickRowKernels(true, true);
 
 }  // namespace
 
 bool fast9UseAvx2(bool allowed) {
-  g_kernels = pickRowKernels(allowed);
+  g_kernels = pickRowKernels(allowed, g_avx512_allowed);
   return g_kernels.corners != fast9_baseline::rowCorners;
+}
+
+bool fast9UseAvx512(bool allowed) {
+  g_avx512_allowed = allowed;
+  g_kernels = pickRowKernels(true, allowed);
+#if defined(IRAF_VO_FAST9_AVX2) && defined(IRAF_VO_FAST9_AVX512)
+  return g_kernels.corners == rowCornersAvx512;
+#else
+  return false;
+#endif
 }
 
 void detectFast9(const cv::Mat& img, const uint8_t* th, std::vector<cv::KeyPoint>* keypoints, Fast9Buffers* b,

@@ -115,11 +115,14 @@ TEST(Enhancer, NormalImageOnlyGetsGaussianAndSharpening) {
 
 TEST(Enhancer, CombinationEqualsScalarEquationsElevenTwelveExactly) {
   // A dim image (so I_gamma != I_gauss) whose width is not a multiple of the vector width: the vectorized blend
-  // and the scalar tail must both give the bytes of eqs. (11)-(12) computed here pixel by pixel.
+  // and the scalar tail must both give the bytes of eqs. (11)-(12) computed here pixel by pixel; both vector
+  // kernels (128-bit; AVX-512 where the CPU has it).
   cv::Mat img(23, 37, CV_8U);
   cv::RNG rng(11);
   rng.fill(img, cv::RNG::UNIFORM, 0, 60);
   EnhanceParams p;
+  for (bool avx512 : {false, true}) {
+  SCOPED_TRACE(enhanceBlendUseAvx512(avx512) ? "AVX-512" : "128-bit");
   Enhancer e;
   const EnhanceResult r = e.enhance(img, p);
   ASSERT_EQ(r.brightness, BrightnessClass::kDim);
@@ -136,6 +139,8 @@ TEST(Enhancer, CombinationEqualsScalarEquationsElevenTwelveExactly) {
       ASSERT_EQ(r.image.at<uint8_t>(y, x), static_cast<uint8_t>(std::min(255.f, std::max(0.f, v + 0.5f))))
           << "at (" << x << ", " << y << ")";
     }
+  }
+  enhanceBlendUseAvx512(true);
 }
 
 TEST(Enhancer, SharpeningIsNotClippedBeforeCombination) {

@@ -132,7 +132,8 @@ TEST(CellFast, ReferencePathEqualsCvFastCallsBitForBit) {
   int retried = 0, compared = 0;
   for (size_t m = 0; m < images.size(); ++m) {
     for (int trial = 0; trial < 12; ++trial) {
-      fast9UseAvx2(trial % 2 == 0);  // both row kernels
+      fast9UseAvx512(trial / 4 == 2);  // every row kernel: baseline, AVX2, AVX-512BW
+      fast9UseAvx2(trial / 4 != 0);
       const CellGrid g = cellGridOfLevel(images[m].cols, images[m].rows, 35);
       std::vector<double> thr(g.cells());
       for (double& t : thr) {
@@ -157,6 +158,7 @@ TEST(CellFast, ReferencePathEqualsCvFastCallsBitForBit) {
       compared += static_cast<int>(ref.size());
     }
   }
+  fast9UseAvx512(true);
   fast9UseAvx2(true);
   EXPECT_GT(retried, 20) << "the retries must be exercised";
   EXPECT_GT(compared, 5000);
@@ -192,9 +194,10 @@ TEST(Fast9, EqualsCvFastOnCellSizedRoisOfRandomImages) {
   // The reference path calls detectFast9 with one threshold where it used cv::FAST: strips (full width,
   // 41 rows) and runs / cells (41 + k * 35 columns) of random smoothed-noise images, every threshold.
   Fast9Buffers buf;
-  for (bool avx2 : {false, true}) {  // both row kernels (AVX2 only where the CPU has it)
-  const bool used = fast9UseAvx2(avx2);
-  SCOPED_TRACE(used ? "AVX2 kernel" : "baseline kernel");
+  for (int kernel : {0, 1, 2}) {  // all row kernels: baseline, AVX2, AVX-512BW (where the CPU has them)
+  const bool avx512 = fast9UseAvx512(kernel == 2);
+  const bool used = fast9UseAvx2(kernel > 0);
+  SCOPED_TRACE(avx512 ? "AVX-512BW kernel" : used ? "AVX2 kernel" : "baseline kernel");
   cv::RNG rng(12);
   for (int trial = 0; trial < 6; ++trial) {
     cv::Mat img(120, 200 + trial * 7, CV_8U);
@@ -217,6 +220,7 @@ TEST(Fast9, EqualsCvFastOnCellSizedRoisOfRandomImages) {
     }
   }
   }
+  fast9UseAvx512(true);
   fast9UseAvx2(true);
 }
 

@@ -35,6 +35,26 @@ std::vector<Histogram256> cellHistograms(const cv::Mat& gray) {
 
 }  // namespace
 
+TEST(AdaptiveThreshold, HistogramCountsEveryPixelOfAnRoi) {
+  // accumulateHistogram (4 sub-histograms, 8 pixels per load, column tails) against a plain count, on ROIs of
+  // every width 1..40 (tails 0..7) of noise and of flat images (long runs of one value), added to a prior count.
+  cv::RNG rng(7);
+  cv::Mat noise(60, 80, CV_8U), flat(60, 80, CV_8U, cv::Scalar(17));
+  rng.fill(noise, cv::RNG::UNIFORM, 0, 256);
+  flat(cv::Rect(30, 10, 20, 20)).setTo(250);
+  for (const cv::Mat& img : {noise, flat}) {
+    for (int w = 1; w <= 40; ++w) {
+      const cv::Rect r(rng.uniform(0, img.cols - w + 1), rng.uniform(0, 20), w, rng.uniform(1, 40));
+      Histogram256 ours{}, ref{};
+      for (int b = 0; b < 256; ++b) ours[b] = ref[b] = static_cast<uint32_t>(b % 5);
+      accumulateHistogram(img(r), &ours);
+      for (int y = r.y; y < r.y + r.height; ++y)
+        for (int x = r.x; x < r.x + r.width; ++x) ++ref[img.at<uint8_t>(y, x)];
+      ASSERT_EQ(ours, ref) << "ROI " << r;
+    }
+  }
+}
+
 TEST(AdaptiveThreshold, OtsuEqualsReference) {
   cv::RNG rng(12);
   int checked = 0;

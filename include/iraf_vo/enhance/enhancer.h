@@ -65,6 +65,10 @@ struct EnhanceResult {
 /// Returns a message naming what is wrong with the config, or "" when it is usable.
 std::string validate(const EnhanceParams& cfg);
 
+/// Lets the iraf blend (eqs. 11-12) use AVX-512 (where the CPU has AVX-512BW; the default) or 128-bit SIMD:
+/// the same bytes. For tests; returns whether AVX-512 is now in use.
+bool enhanceBlendUseAvx512(bool allowed);
+
 /// eqs. (3)-(7): the 256-entry gamma-correction LUT of a histogram (counts per intensity level).
 /// lut[i] = round(255 * (i / 255)^gamma(i)), gamma(i) = max(tau, 1 - C_w(i)).
 std::array<uint8_t, 256> agcwdLut(const std::array<double, 256>& histogram, double lambda, double tau);

@@ -32,4 +32,9 @@ void detectFast9(const cv::Mat& img, const uint8_t* col_threshold, std::vector<c
 /// (16 lanes). Both give the same corners and scores; for tests. Returns whether AVX2 is now in use.
 bool fast9UseAvx2(bool allowed);
 
+/// Lets detectFast9 use the AVX-512BW corner kernel (when fast9UseAvx2 allows AVX2 and the CPU has AVX-512BW;
+/// the default) or not (AVX2 / baseline as fast9UseAvx2 says; also selects AVX2 again when it is allowed).
+/// Returns whether the AVX-512BW kernel is now in use. For tests and benchmarks: the output is the same.
+bool fast9UseAvx512(bool allowed);
+
 }  // namespace iraf_vo
