@@ -95,7 +95,7 @@ const ParamTable<TrackerParams>& trackerParamTable() {
           doubleParam("ba_huber_delta", &P::ba_huber_delta, 0.1, 100.0,
                       "Huber threshold on the sigma-normalized residual (sqrt(5.991))"),
           boolParam("ba_use_ceres", &P::ba_use_ceres,
-                    "Local BA with ceres::Solve instead of the equivalent Schur-complement LM"),
+                    "Every BA (initialization, local) with ceres::Solve instead of the equivalent Schur-complement LM"),
           intParam("lost_frames_before_reset", &P::lost_frames_before_reset, 0, 1000,
                    "Consecutive lost frames (relocalization attempts) before the map is reset"),
           boolParam("health_monitor", &P::health_monitor,

@@ -72,6 +72,7 @@ struct TwoViewParams {
   // matches about as well (profile chi2 < ambiguity_max_chi2, two_view_ambiguity.h); 0 = no check.
   double ambiguity_max_chi2 = 9.21;
   double ambiguity_angle_deg = 20.0;
+  bool ba_use_ceres = false;  // the motion refinement's BAOptions::use_ceres (TrackerParams::ba_use_ceres)
 };
 
 struct TwoViewResult {
