@@ -73,7 +73,8 @@ std::string RunRecorder::summary(const RunTotals& t) const {
   s << "frames " << st.frames << ", tracked " << st.tracked << " (" << tracked_pct << " %), lost frames "
     << st.lost_frames << ", lost events " << st.lost_events << ", resets " << st.resets << ", keyframes "
     << st.keyframes << ", map points " << t.map_points << ", BA runs " << st.ba_runs << " (mean "
-    << (st.ba_runs ? st.ba_ms_total / st.ba_runs : 0.0) << " ms)\n";
+    << (st.ba_runs ? st.ba_ms_total / st.ba_runs : 0.0) << " ms), BA CPU "
+    << (st.ba_runs ? st.ba_cpu_ms_total / st.ba_runs : 0.0) << " ms per run\n";
   s << "wall " << t.wall_s << " s, " << fps(t)
     << " fps (reader, front-end, tracking and mapping threads in parallel); CPU " << t.cpu_s
     << " s = " << cpuMsPerFrame(t) << " ms/frame (all threads) -> <= " << 2000.0 / cpuMsPerFrame(t)
@@ -114,7 +115,8 @@ bool RunRecorder::writeJson(const std::string& path, const RunTotals& t, std::st
      << ",\n  \"lost_frames\": " << st.lost_frames << ",\n  \"lost_events\": " << st.lost_events
      << ",\n  \"resets\": " << st.resets << ",\n  \"keyframes\": " << st.keyframes
      << ",\n  \"map_points\": " << t.map_points << ",\n  \"read_errors\": " << t.read_errors
-     << ",\n  \"fps\": " << fps(t) << ",\n  \"cpu_ms_per_frame\": " << cpuMsPerFrame(t) << ",\n  \"ms\": {";
+     << ",\n  \"fps\": " << fps(t) << ",\n  \"cpu_ms_per_frame\": " << cpuMsPerFrame(t) << ",\n  \"ba_runs\": " << st.ba_runs
+     << ",\n  \"ba_cpu_ms_per_run\": " << (st.ba_runs ? st.ba_cpu_ms_total / st.ba_runs : 0.0) << ",\n  \"ms\": {";
   bool first = true;
   for (const auto& kv : ms_) {
     const Percentiles p = percentiles(kv.second);

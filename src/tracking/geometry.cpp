@@ -11,6 +11,7 @@
 #include <memory>
 
 #include "ceres_blocks.h"
+#include "schur_lm.h"
 
 namespace iraf_vo {
 
@@ -77,19 +78,13 @@ double reprojectionRmse(const CameraModel& cam, const std::vector<BAKeyframe>& k
   return rmseOfErrors2(observationErrors2(cam, kfs, pts, obs));
 }
 
-bool bundleAdjust(const CameraModel& cam, std::vector<BAKeyframe>* kfs, std::vector<BAPoint>* pts,
-                  const std::vector<BAObservation>& obs, const BAOptions& options, BASummary* summary) {
-  const auto t0 = std::chrono::steady_clock::now();
-  BASummary local;
-  BASummary& sum = summary ? *summary : local;
-  sum = BASummary();
-  sum.outlier.assign(obs.size(), 0);
-  if (obs.empty() || kfs->empty() || pts->empty()) return false;
-  std::vector<double> poses(7 * kfs->size());
-  for (size_t k = 0; k < kfs->size(); ++k) poseToBlock((*kfs)[k].T_c_w, &poses[7 * k]);
-  std::vector<double> points(3 * pts->size());
-  for (size_t i = 0; i < pts->size(); ++i) (Eigen::Map<Eigen::Vector3d>(&points[3 * i])) = (*pts)[i].p_w;
+namespace {
 
+// The Ceres path (BAOptions::use_ceres): TRUST_REGION / LEVENBERG_MARQUARDT / DENSE_SCHUR, explicit Schur ordering.
+// valid[j]: observation j enters the problem. Returns Summary::IsSolutionUsable().
+bool solveWithCeres(const CameraModel& cam, const std::vector<BAKeyframe>& kfs, size_t num_points,
+                    const std::vector<BAObservation>& obs, const std::vector<char>& valid, const BAOptions& options,
+                    std::vector<double>* poses, std::vector<double>* points, BASummary* sum) {
   // Declared before the problem so they outlive it (shared by all residuals, not owned by the problem).
   // The cost functions live in one container (no per-residual delete, no ownership bookkeeping in the problem).
   PoseManifold manifold;
@@ -102,50 +97,99 @@ bool bundleAdjust(const CameraModel& cam, std::vector<BAKeyframe>* kfs, std::vec
   popts.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   popts.disable_all_safety_checks = true;  // each residual has one pose and one distinct point block
   ceres::Problem problem(popts);
-  std::vector<char> pose_added(kfs->size(), 0);
-  // Errors before the solve: which observations project, and the initial RMSE (the same values).
-  const std::vector<double> e2_initial = observationErrors2(cam, *kfs, *pts, obs);
-  int n_res = 0;
+  std::vector<char> pose_added(kfs.size(), 0);
   for (size_t j = 0; j < obs.size(); ++j) {
+    if (!valid[j]) continue;
     const auto& o = obs[j];
-    if (e2_initial[j] < 0) {
-      sum.outlier[j] = 1;
-      continue;
-    }
-    double* pb = &poses[7 * o.keyframe];
+    double* pb = &(*poses)[7 * o.keyframe];
     if (!pose_added[o.keyframe]) {
       problem.AddParameterBlock(pb, 7, &manifold);
-      if ((*kfs)[o.keyframe].fixed) problem.SetParameterBlockConstant(pb);
+      if (kfs[o.keyframe].fixed) problem.SetParameterBlockConstant(pb);
       pose_added[o.keyframe] = 1;
     }
     costs.emplace_back(&cam, o.uv, o.sigma);
-    problem.AddResidualBlock(&costs.back(), loss, pb, &points[3 * o.point]);
-    ++n_res;
+    problem.AddResidualBlock(&costs.back(), loss, pb, &(*points)[3 * o.point]);
+  }
+  ceres::Solver::Options so;
+  so.linear_solver_type = options.dense_schur ? ceres::DENSE_SCHUR : ceres::SPARSE_SCHUR;
+  // Explicit Schur ordering (points eliminated first) saves Ceres' independent-set search.
+  auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+  for (size_t i = 0; i < num_points; ++i)
+    if (problem.HasParameterBlock(&(*points)[3 * i])) ordering->AddElementToGroup(&(*points)[3 * i], 0);
+  for (size_t k = 0; k < kfs.size(); ++k)
+    if (pose_added[k]) ordering->AddElementToGroup(&(*poses)[7 * k], 1);
+  so.linear_solver_ordering = ordering;
+  so.max_num_iterations = options.max_num_iterations;
+  so.max_solver_time_in_seconds = options.max_solver_time_in_seconds;
+  so.num_threads = std::max(1, options.num_threads);
+  so.logging_type = ceres::SILENT;
+  AbortCallback cb(options.abort, options.max_cpu_seconds);
+  if (options.abort || options.max_cpu_seconds > 0.0) so.callbacks.push_back(&cb);
+  ceres::Solver::Summary s;
+  ceres::Solve(so, &problem, &s);
+  sum->iterations = static_cast<int>(s.iterations.size());
+  sum->cpu_budget_hit = cb.cpu_budget_hit;
+  sum->time_limit_hit = s.termination_type == ceres::NO_CONVERGENCE && s.message.find("time") != std::string::npos;
+  sum->initial_cost = s.initial_cost;
+  sum->final_cost = s.final_cost;
+  return s.IsSolutionUsable();
+}
+
+// The default path: schur_lm.h (the same algorithm without Ceres' per-residual overhead).
+bool solveWithSchurLM(const CameraModel& cam, const std::vector<BAKeyframe>& kfs, const std::vector<BAObservation>& obs,
+                      const std::vector<char>& valid, const BAOptions& options, std::vector<double>* poses,
+                      std::vector<double>* points, BASummary* sum) {
+  std::vector<schur_lm::Residual> res;
+  res.reserve(obs.size());
+  for (size_t j = 0; j < obs.size(); ++j)
+    if (valid[j]) res.push_back({obs[j].keyframe, obs[j].point, obs[j].uv, 1.0 / obs[j].sigma});
+  std::vector<char> fixed(kfs.size());
+  for (size_t k = 0; k < kfs.size(); ++k) fixed[k] = kfs[k].fixed;
+  schur_lm::Options so;
+  so.max_num_iterations = options.max_num_iterations;
+  so.huber_delta = options.huber_delta;
+  so.max_wall_seconds = options.max_solver_time_in_seconds;
+  AbortCallback cb(options.abort, options.max_cpu_seconds);
+  if (options.abort || options.max_cpu_seconds > 0.0)
+    so.stop = [&cb] { return cb(ceres::IterationSummary()) != ceres::SOLVER_CONTINUE; };
+  schur_lm::Summary s;
+  const bool ok = schur_lm::solve(cam, poses, fixed, points, res, so, &s);
+  sum->iterations = s.iterations;
+  sum->cpu_budget_hit = cb.cpu_budget_hit;
+  sum->time_limit_hit = s.termination == schur_lm::Termination::kTimeLimit;
+  sum->initial_cost = s.initial_cost;
+  sum->final_cost = s.final_cost;
+  return ok;
+}
+
+}  // namespace
+
+bool bundleAdjust(const CameraModel& cam, std::vector<BAKeyframe>* kfs, std::vector<BAPoint>* pts,
+                  const std::vector<BAObservation>& obs, const BAOptions& options, BASummary* summary) {
+  const auto t0 = std::chrono::steady_clock::now();
+  BASummary local;
+  BASummary& sum = summary ? *summary : local;
+  sum = BASummary();
+  sum.outlier.assign(obs.size(), 0);
+  if (obs.empty() || kfs->empty() || pts->empty()) return false;
+  std::vector<double> poses(7 * kfs->size());
+  for (size_t k = 0; k < kfs->size(); ++k) poseToBlock((*kfs)[k].T_c_w, &poses[7 * k]);
+  std::vector<double> points(3 * pts->size());
+  for (size_t i = 0; i < pts->size(); ++i) (Eigen::Map<Eigen::Vector3d>(&points[3 * i])) = (*pts)[i].p_w;
+  // Errors before the solve: which observations project, and the initial RMSE (the same values).
+  const std::vector<double> e2_initial = observationErrors2(cam, *kfs, *pts, obs);
+  std::vector<char> valid(obs.size());
+  int n_res = 0;
+  for (size_t j = 0; j < obs.size(); ++j) {
+    valid[j] = e2_initial[j] >= 0;
+    sum.outlier[j] = !valid[j];
+    n_res += valid[j];
   }
   bool ok = false;
   if (n_res > 0) {
     sum.initial_rmse_px = rmseOfErrors2(e2_initial);
-    ceres::Solver::Options so;
-    so.linear_solver_type = options.dense_schur ? ceres::DENSE_SCHUR : ceres::SPARSE_SCHUR;
-    // Explicit Schur ordering (points eliminated first) saves Ceres' independent-set search.
-    auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
-    for (size_t i = 0; i < pts->size(); ++i)
-      if (problem.HasParameterBlock(&points[3 * i])) ordering->AddElementToGroup(&points[3 * i], 0);
-    for (size_t k = 0; k < kfs->size(); ++k)
-      if (pose_added[k]) ordering->AddElementToGroup(&poses[7 * k], 1);
-    so.linear_solver_ordering = ordering;
-    so.max_num_iterations = options.max_num_iterations;
-    so.max_solver_time_in_seconds = options.max_solver_time_in_seconds;
-    so.num_threads = std::max(1, options.num_threads);
-    so.logging_type = ceres::SILENT;
-    AbortCallback cb(options.abort, options.max_cpu_seconds);
-    if (options.abort || options.max_cpu_seconds > 0.0) so.callbacks.push_back(&cb);
-    ceres::Solver::Summary s;
-    ceres::Solve(so, &problem, &s);
-    ok = s.IsSolutionUsable();
-    sum.iterations = static_cast<int>(s.iterations.size());
-    sum.cpu_budget_hit = cb.cpu_budget_hit;
-    sum.time_limit_hit = s.termination_type == ceres::NO_CONVERGENCE && s.message.find("time") != std::string::npos;
+    ok = options.use_ceres ? solveWithCeres(cam, *kfs, pts->size(), obs, valid, options, &poses, &points, &sum)
+                           : solveWithSchurLM(cam, *kfs, obs, valid, options, &poses, &points, &sum);
     if (ok) {
       for (size_t k = 0; k < kfs->size(); ++k)
         if (!(*kfs)[k].fixed) (*kfs)[k].T_c_w = blockToPose(&poses[7 * k]);

@@ -1,5 +1,7 @@
 #include <iraf_vo/tracking/local_mapper.h>
 
+#include <iraf_vo/common/cpu_clock.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -164,6 +166,7 @@ void LocalMapper::createNewMapPoints(long kf_id) {
 }
 
 void LocalMapper::localBundleAdjustment() {
+  const double cpu0 = threadCpuMs();
   LocalBAProblem prob = map_->localBAProblem(p_.ba_window_size, p_.ba_min_fixed_span);
   if (prob.observations.empty()) return;
   BAOptions options;
@@ -174,6 +177,7 @@ void LocalMapper::localBundleAdjustment() {
   options.max_cpu_seconds = p_.ba_max_solver_time_in_seconds;
   options.max_solver_time_in_seconds = std::max(2.0, 20.0 * p_.ba_max_solver_time_in_seconds);
   options.huber_delta = p_.ba_huber_delta;
+  options.use_ceres = p_.ba_use_ceres;
   options.abort = p_.mapping_thread ? &abort_ba_ : nullptr;
   BASummary summary;
   const double before = windowExtent(prob);
@@ -184,6 +188,7 @@ void LocalMapper::localBundleAdjustment() {
     std::lock_guard<std::mutex> lk(stats_mutex_);
     stats_.ba_runs++;
     stats_.ba_ms_total += summary.ms;
+    stats_.ba_cpu_ms_total += threadCpuMsSince(cpu0);
     stats_.ba_final_rmse_px = summary.final_rmse_px;
   }
   if (!ok) return;

@@ -49,6 +49,7 @@ bool MapInitializer::initialize(Frame& cur, const MapAnchor& anchor, Map* map, K
   two_view_params.homography_ratio = p_.init_homography_ratio;
   two_view_params.ambiguity_max_chi2 = p_.init_ambiguity_max_chi2;
   two_view_params.ambiguity_angle_deg = p_.init_ambiguity_angle_deg;
+  two_view_params.ba_use_ceres = p_.ba_use_ceres;
   const TwoViewResult two_view = initializeTwoView(b_ref, b_cur, cam_.focal(), two_view_params);
   if (!two_view.ok) {
     last_failure_ = "ref " + std::to_string(reference_.index) + " " + std::to_string(matches.size()) +
@@ -95,6 +96,7 @@ bool MapInitializer::initialize(Frame& cur, const MapAnchor& anchor, Map* map, K
   options.max_cpu_seconds = 0.5;  // CPU time: the result does not depend on the machine load
   options.max_solver_time_in_seconds = 10.0;  // wall-clock safety cap only
   options.huber_delta = p_.ba_huber_delta;
+  options.use_ceres = p_.ba_use_ceres;
   BASummary summary;
   bundleAdjust(cam_, &ba_keyframes, &ba_points, ba_observations, options, &summary);
   kf1->T_c_w = ba_keyframes[1].T_c_w;

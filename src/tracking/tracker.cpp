@@ -347,6 +347,7 @@ TrackerStats Tracker::stats() const {
   const LocalMapperStats m = impl_->mapper.stats();
   s.ba_runs = m.ba_runs;
   s.ba_ms_total = m.ba_ms_total;
+  s.ba_cpu_ms_total = m.ba_cpu_ms_total;
   s.ba_final_rmse_px = m.ba_final_rmse_px;
   return s;
 }

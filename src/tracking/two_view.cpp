@@ -273,6 +273,7 @@ void refineTwoView(const Hypothesis& best, const ForwardMatches& m, double focal
   bao.max_cpu_seconds = 0.2;  // CPU time: the result does not depend on the machine load
   bao.max_solver_time_in_seconds = 4.0;  // wall-clock safety cap only
   bao.huber_delta = 1.0;
+  bao.use_ceres = params.ba_use_ceres;
   BASummary bs;
   Eigen::Matrix3d R = best.R;
   Eigen::Vector3d t = best.t;

@@ -72,6 +72,7 @@ struct TwoViewParams {
   // matches about as well (profile chi2 < ambiguity_max_chi2, two_view_ambiguity.h); 0 = no check.
   double ambiguity_max_chi2 = 9.21;
   double ambiguity_angle_deg = 20.0;
+  bool ba_use_ceres = false;  // the motion refinement's BAOptions::use_ceres (TrackerParams::ba_use_ceres)
 };
 
 struct TwoViewResult {
@@ -156,7 +157,8 @@ struct BAOptions {
   double chi2_threshold = 5.991;       // for the outlier flags of the summary
   const std::atomic<bool>* abort = nullptr;  // checked between iterations (new keyframe waiting)
   int num_threads = 1;
-  bool dense_schur = true;  // DENSE_SCHUR (fast for <= ~30 poses) or SPARSE_SCHUR
+  bool dense_schur = true;  // use_ceres: DENSE_SCHUR (fast for <= ~30 poses) or SPARSE_SCHUR
+  bool use_ceres = false;   // ceres::Solve instead of the equivalent Schur-complement LM (schur_lm.h)
 };
 struct BASummary {
   bool ran = false;
@@ -164,6 +166,7 @@ struct BASummary {
   bool cpu_budget_hit = false;  // stopped by max_cpu_seconds
   bool time_limit_hit = false;  // stopped by max_solver_time_in_seconds (wall clock)
   double initial_rmse_px = 0.0, final_rmse_px = 0.0;
+  double initial_cost = 0.0, final_cost = 0.0;  // 0.5 * sum of Huber(sigma-normalized squared error)
   std::vector<char> outlier;  // per observation, chi2 after the solve
   double ms = 0.0;
 };

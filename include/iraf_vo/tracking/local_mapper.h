@@ -30,7 +30,8 @@ namespace iraf_vo {
 
 struct LocalMapperStats {
   long ba_runs = 0;
-  double ba_ms_total = 0.0;
+  double ba_ms_total = 0.0;      // wall time of bundleAdjust
+  double ba_cpu_ms_total = 0.0;  // thread CPU time of the window's build and bundleAdjust (load-independent)
   double ba_final_rmse_px = 0.0;  // last BA
 };
 

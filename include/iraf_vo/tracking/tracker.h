@@ -90,7 +90,8 @@ struct TrackerStats {
   long keyframes = 0;
   long rejected = 0;               // tracked poses rejected by the health monitor (counted as lost frames)
   long ba_runs = 0;
-  double ba_ms_total = 0.0;
+  double ba_ms_total = 0.0;        // LocalMapperStats
+  double ba_cpu_ms_total = 0.0;
   double ba_final_rmse_px = 0.0;   // last BA
 };
 

@@ -73,6 +73,8 @@ struct TrackerParams {
   double ba_max_solver_time_in_seconds = 0.1;  // CPU time of the mapping thread (not wall clock: under load
                                                // a wall-clock budget left BA at 0-1 iterations)
   double ba_huber_delta = 2.447;        // sqrt(5.991) on the sigma-normalized residual
+  bool ba_use_ceres = false;            // every BA (initialization and local) with ceres::Solve instead of the equivalent Schur-complement
+                                        // LM (schur_lm.h; same steps, ~3x less CPU)
   int max_pending_keyframes = 2;        // keyframe queue bound: inserting waits while this many are queued
                                         // (only under CPU overload; 0 = unbounded)
   int ba_every_keyframes = 2;           // BA at least every this many keyframes even if more are queued
