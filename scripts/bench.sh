@@ -39,17 +39,41 @@ done
 [[ -x "$bin/iraf_vo_run" && -x "$bin/iraf_vo_bench_frontend" ]] || { echo "bench.sh: no build in $bin (run scripts/setup.sh)" >&2; exit 2; }
 [[ -f "$dataset/mav0/cam0/data.csv" ]] || { echo "bench.sh: $dataset is not an ASL folder" >&2; exit 2; }
 out="$(mktemp -d /tmp/iraf_vo_bench.XXXXXX)"
+# Host check: on a virtual machine the hypervisor can take the CPUs away (steal time, or ticks that never reach the
+# guest's accounting); then CPU and wall times are inflated and not comparable between runs. Each stage prints what
+# share of (cores x wall time) the guest really had; below 90 % its numbers are marked unreliable.
+cpu_snapshot() { echo "$(date +%s.%N) $(head -1 /proc/stat | cut -d' ' -f2-)"; }
+host_check() {  # host_check "SNAPSHOT_BEFORE" STAGE_NAME
+  /usr/bin/python3 - "$1" "$(cpu_snapshot)" "$2" "$(nproc)" "$(getconf CLK_TCK)" <<'PY'
+import sys
+a, b = [list(map(float, s.split())) for s in sys.argv[1:3]]
+name, ncpu, hz = sys.argv[3], int(sys.argv[4]), float(sys.argv[5])
+d = [y - x for x, y in zip(a, b)]
+wall, ticks = d[0], d[1:]
+expected = wall * ncpu * hz
+steal = ticks[7] if len(ticks) > 7 else 0.0
+had = sum(ticks[:7]) + sum(ticks[8:]) if len(ticks) > 8 else sum(ticks[:7])
+share = 100.0 * had / expected if expected > 0 else 100.0
+print("host: %s had %.0f %% of %d cores x %.1f s wall (steal %.0f %%, unaccounted %.0f %%)%s" % (
+    name, share, ncpu, wall, 100.0 * steal / max(expected, 1e-9), max(0.0, 100.0 - share - 100.0 * steal / max(expected, 1e-9)),
+    "" if share >= 90 else ": the hypervisor took CPU time, CPU ms and fps of this stage are UNRELIABLE (compare instruction counts, valgrind --tool=callgrind)"))
+PY
+}
 echo "== machine: $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg); dataset $dataset"
 echo "== front-end (one thread, thread CPU time, median per frame): target ratio <= 1.0 x cv::ORB(1000)"
+snap="$(cpu_snapshot)"
 "$bin/iraf_vo_bench_frontend" --dataset "$dataset" --frames "$fe_frames" | tee "$out/frontend.txt"
+host_check "$snap" "front-end bench"
 gt="$dataset/groundtruth/groundtruth_tum_cam0.txt"
 [[ -f "$gt" ]] || gt="$dataset/mav0/state_groundtruth_estimate0/data.csv"
 for mode in $modes; do
   echo "== whole VO, mode $mode, frames 0-$((frames - 1)) ${mapping:+(synchronous mapping)}: target <= 10 CPU ms per frame"
   args=(--dataset "$dataset" --frames "$frames" --mode "$mode" --out "$out/$mode.txt" --stats "$out/$mode.json" --quiet)
   [[ -f "$gt" ]] && args+=(--gt "$gt")
+  snap="$(cpu_snapshot)"
   # shellcheck disable=SC2086
   /usr/bin/time -v "$bin/iraf_vo_run" "${args[@]}" $mapping >"$out/$mode.log" 2>"$out/$mode.time"
+  host_check "$snap" "whole VO ($mode)" | tee "$out/$mode.host"
   cat "$out/$mode.log"
   /usr/bin/python3 - "$out/$mode.log" "$out/$mode.time" "$frames" <<'PY'
 import re, sys
