@@ -163,6 +163,17 @@ void LocalMapper::createNewMapPoints(long kf_id) {
     }
   }
   map_->addTriangulatedPoints(created);
+  fuseMapPoints(kf_id);
+}
+
+void LocalMapper::fuseMapPoints(long kf_id) {
+  if (p_.fuse_neighbors <= 0) return;
+  std::vector<FusionLink> links;
+  for (const FusionTarget& t : map_->fusionTargets(kf_id, p_.fuse_neighbors)) {
+    const std::vector<FusionLink> l = matcher_.searchForFusion(t, p_.fuse_radius_px);
+    links.insert(links.end(), l.begin(), l.end());
+  }
+  map_->fuse(links);
 }
 
 void LocalMapper::localBundleAdjustment() {

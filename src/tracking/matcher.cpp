@@ -240,4 +240,60 @@ std::vector<int> Matcher::searchForTriangulation(const Keyframe& kf1, const std:
   return match_of_2;
 }
 
+std::vector<FusionLink> Matcher::searchForFusion(const FusionTarget& target, double radius) const {
+  std::vector<FusionLink> out;
+  const Keyframe& kf = *target.keyframe;
+  const int n = static_cast<int>(kf.keypoints.size());
+  if (target.candidates.empty() || n == 0) return out;
+  // Keypoints bucketed in 32-pixel cells (the keyframe keeps no search grid).
+  constexpr double kCell = 32.0;
+  const double w = cam_.width(), h = cam_.height();
+  const int cols = std::max(1, static_cast<int>(std::ceil(w / kCell))), rows = std::max(1, static_cast<int>(std::ceil(h / kCell)));
+  std::vector<int> start(static_cast<size_t>(cols) * rows + 1, 0), order(n);
+  auto cellOf = [&](const cv::Point2f& pt) {
+    const int cx = std::min(cols - 1, std::max(0, static_cast<int>(pt.x / kCell)));
+    const int cy = std::min(rows - 1, std::max(0, static_cast<int>(pt.y / kCell)));
+    return cy * cols + cx;
+  };
+  for (int i = 0; i < n; ++i) ++start[cellOf(kf.keypoints[i].pt) + 1];
+  for (size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
+  std::vector<int> fill(start.begin(), start.end() - 1);
+  for (int i = 0; i < n; ++i) order[fill[cellOf(kf.keypoints[i].pt)]++] = i;
+
+  std::vector<int> best_dist(n, p_.match_threshold_low + 1), best_point(n, -1);
+  for (size_t c = 0; c < target.candidates.size(); ++c) {
+    const LocalPoint& lp = target.candidates[c];
+    const Eigen::Vector3d p_c = target.T_c_w * lp.p_w;
+    if (p_c.z() <= 1e-6) continue;
+    Eigen::Vector2d uv;
+    if (!cam_.project(p_c, &uv) || uv.x() < 0 || uv.y() < 0 || uv.x() >= w || uv.y() >= h) continue;
+    const double r = radius * kf.sigma(lp.octave);
+    const int x0 = std::max(0, static_cast<int>((uv.x() - r) / kCell)), x1 = std::min(cols - 1, static_cast<int>((uv.x() + r) / kCell));
+    const int y0 = std::max(0, static_cast<int>((uv.y() - r) / kCell)), y1 = std::min(rows - 1, static_cast<int>((uv.y() + r) / kCell));
+    int best = p_.match_threshold_low + 1, best_kp = -1;
+    for (int cy = y0; cy <= y1; ++cy)
+      for (int cx = x0; cx <= x1; ++cx)
+        for (int k = start[cy * cols + cx]; k < start[cy * cols + cx + 1]; ++k) {
+          const int j = order[k];
+          const cv::KeyPoint& kp = kf.keypoints[j];
+          if (!kf.valid[j] || std::abs(kp.octave - lp.octave) > 1) continue;
+          const double dx = kp.pt.x - uv.x(), dy = kp.pt.y - uv.y(), e2 = dx * dx + dy * dy;
+          const double s = kf.sigma(kp.octave);
+          if (e2 > r * r || e2 > kChi2TwoDof * s * s) continue;
+          const int d = hammingDistance(lp.desc.data(), kf.descriptors.ptr<uint8_t>(j));
+          if (d < best) {
+            best = d;
+            best_kp = j;
+          }
+        }
+    if (best_kp >= 0 && best < best_dist[best_kp]) {
+      best_dist[best_kp] = best;
+      best_point[best_kp] = static_cast<int>(c);
+    }
+  }
+  for (int j = 0; j < n; ++j)
+    if (best_point[j] >= 0) out.push_back({kf.id, j, target.candidates[best_point[j]].id});
+  return out;
+}
+
 }  // namespace iraf_vo

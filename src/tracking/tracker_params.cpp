@@ -16,6 +16,7 @@ std::string validate(const TrackerParams& p) {
                          std::make_pair("search_radius_refine_px", p.search_radius_refine_px),
                          std::make_pair("pnp_threshold_px", p.pnp_threshold_px),
                          std::make_pair("min_triangulation_parallax_deg", p.min_triangulation_parallax_deg),
+                         std::make_pair("fuse_radius_px", p.fuse_radius_px),
                          std::make_pair("ba_max_solver_time_in_seconds", p.ba_max_solver_time_in_seconds),
                          std::make_pair("ba_huber_delta", p.ba_huber_delta)})
     if (!std::isfinite(kv.second)) return bad(kv.first, "must be finite");
@@ -48,6 +49,8 @@ std::string validate(const TrackerParams& p) {
   if (p.min_frames_between_keyframes < 0) return bad("min_frames_between_keyframes", "must be >= 0");
   if (p.max_frames_between_keyframes < 1) return bad("max_frames_between_keyframes", "must be >= 1");
   if (p.num_triangulation_neighbors < 1) return bad("num_triangulation_neighbors", "must be >= 1");
+  if (p.fuse_neighbors < 0) return bad("fuse_neighbors", "must be >= 0");
+  if (!(p.fuse_radius_px > 0)) return bad("fuse_radius_px", "must be > 0");
   if (!(p.min_triangulation_parallax_deg >= 0)) return bad("min_triangulation_parallax_deg", "must be >= 0");
   if (!(p.min_found_ratio >= 0 && p.min_found_ratio <= 1)) return bad("min_found_ratio", "must be in [0, 1]");
   if (p.ba_window_size < 2) return bad("ba_window_size", "must be >= 2");

@@ -5,7 +5,9 @@
 //   for each new keyframe: cull recent points (found/visible < min_found_ratio, or <= 2 observations two
 //   keyframes after creation), triangulate new points between the keyframe and its num_triangulation_neighbors
 //   best covisible keyframes (unmatched keypoints, Hamming <= match_threshold_low, epipolar check on bearings,
-//   cheirality, reprojection chi2, min_triangulation_parallax_deg), then sliding-window BA when no other
+//   cheirality, reprojection chi2, min_triangulation_parallax_deg), fuse the keyframe's points with those of its
+//   fuse_neighbors most covisible keyframes (projection both ways: a keypoint without a point gets an observation,
+//   two points on one keypoint are merged; ORB-SLAM's SearchInNeighbors), then sliding-window BA when no other
 //   keyframe is waiting or ba_every_keyframes keyframes were processed since the last BA.
 // Threaded: the tracking thread usually triangulated the keyframe already (triangulate_in_tracking; claimed
 //   once per keyframe), the mapping thread then culls, updates descriptors and runs BA.
@@ -74,7 +76,8 @@ class LocalMapper {
   };
   void run();
   bool deferred() const;
-  void mapKeyframe(long kf_id);  // cull, descriptors, triangulation
+  void mapKeyframe(long kf_id);  // cull, descriptors, triangulation, fusion
+  void fuseMapPoints(long kf_id);
   void processKeyframe(long kf_id, bool run_ba);
   void localBundleAdjustment();
   void recordScaleChange(double extent_before, const LocalBAProblem& after);

@@ -17,6 +17,7 @@
 #include <memory>
 #include <mutex>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 namespace iraf_vo {
@@ -89,6 +90,22 @@ struct TriangulationInput {
   double median_depth = 1.0;
 };
 
+/// Map-point fusion (ORB-SLAM's SearchInNeighbors / Fuse): a keyframe to project points into, with a copy of
+/// its pose and observations taken under the lock, and the points to project (not observed by it).
+struct FusionTarget {
+  KeyframePtr keyframe;
+  Eigen::Isometry3d T_c_w;
+  std::vector<long> point_id;
+  std::vector<LocalPoint> candidates;
+};
+
+/// Keypoint kp of keyframe kf_id shows map point point_id (found by projection).
+struct FusionLink {
+  long kf_id;
+  int kp;
+  long point_id;
+};
+
 /// Keyframe poses as published.
 struct KeyframePose {
   long id = 0;
@@ -138,6 +155,15 @@ class Map {
   /// their anchor's correction (local_ba.h) and removes observations flagged as outliers. The caller holds
   /// lockUpdates() (the mapping thread) or is the tracking thread.
   void applyLocalBA(const LocalBAProblem& problem, const BASummary& summary);
+  /// Fusion targets of keyframe kf_id (map_fusion.cpp): the keyframe itself with the points of its num_neighbors
+  /// most covisible keyframes, and each of those neighbors with the keyframe's points (points a target observes
+  /// already are left out). Empty when the keyframe is gone.
+  std::vector<FusionTarget> fusionTargets(long kf_id, int num_neighbors) const;
+  /// Applies links in order: a keypoint without a point gets the observation; a keypoint showing another point
+  /// merges the two (the point with more observations keeps its id and position, takes the other's observations
+  /// where it has none in that keyframe). Links to vanished keyframes / points, or to a point the keyframe
+  /// observes already, are skipped. Returns {observations added, points merged}.
+  std::pair<int, int> fuse(const std::vector<FusionLink>& links);
   void dropOldKeyframes(int max_keyframes);
 
   // ---- queries (any thread) ----
@@ -149,6 +175,7 @@ class Map {
  private:
   long createPointLocked(const Eigen::Vector3d& p_w, Keyframe& a, int kp_a, Keyframe& b, int kp_b);
   void erasePointLocked(long id);
+  void mergePointsLocked(MapPoint* keep, MapPoint* gone);
 
   std::mutex update_mutex_;  // lockUpdates(); taken before mutex_
   mutable std::mutex mutex_;

@@ -60,6 +60,11 @@ class Matcher {
   std::vector<int> searchForTriangulation(const Keyframe& kf1, const std::vector<char>& used1, const Keyframe& kf2,
                                           const std::vector<long>& point_id2, const Eigen::Isometry3d& T_21) const;
 
+  /// Map-point fusion: projects the target's candidate points into its keyframe and links each keypoint to the
+  /// candidate with the least Hamming distance (<= match_threshold_low) among those projecting within
+  /// radius * sigma(point octave) pixels and the chi2 gate (5.991 sigma(keypoint octave)^2), octave +- 1.
+  std::vector<FusionLink> searchForFusion(const FusionTarget& target, double radius) const;
+
  private:
   const CameraModel& cam_;
   const TrackerParams& p_;

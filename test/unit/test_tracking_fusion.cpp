@@ -1,0 +1,132 @@
+// Map-point fusion (Map::fusionTargets / Matcher::searchForFusion / Map::fuse, as LocalMapper runs them): a
+// hand-built map where the newest keyframe missed points the older keyframes observe, some of them triangulated
+// again as duplicates. Fusion must link the missed keypoints, merge the duplicates into the older points, and
+// leave keypoints whose descriptor or position does not fit alone.
+#include <iraf_vo/tracking/local_mapper.h>
+#include <iraf_vo/tracking/map.h>
+#include <iraf_vo/tracking/matcher.h>
+
+#include <gtest/gtest.h>
+
+#include "unit/tracking_test_utils.h"
+
+#include <random>
+
+namespace iraf_vo {
+namespace {
+
+constexpr int kN = 120;  // world points
+
+struct FusionScene {
+  test::TestPinhole cam{752, 480, 450.0, 376.0, 240.0};
+  std::vector<Eigen::Vector3d> world;
+  std::vector<std::array<uint8_t, 32>> desc;
+  Map map;
+
+  FusionScene() {
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> ux(-1.5, 1.5), uy(-1.0, 1.0), uz(3.5, 5.0);
+    std::uniform_int_distribution<int> ub(0, 255);
+    for (int i = 0; i < kN; ++i) {
+      world.emplace_back(ux(rng), uy(rng), uz(rng));
+      std::array<uint8_t, 32> d;
+      for (auto& b : d) b = static_cast<uint8_t>(ub(rng));
+      desc.push_back(d);
+    }
+  }
+  static Eigen::Isometry3d pose(double x) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation() = Eigen::Vector3d(-x, 0, 0);
+    return T;
+  }
+  // Keypoint i = the exact projection of world point i (all points are in view), its descriptor.
+  Frame frame(long index, double x) const {
+    Frame f;
+    f.index = index;
+    f.T_c_w = pose(x);
+    for (int i = 0; i < kN; ++i) {
+      Eigen::Vector2d uv;
+      EXPECT_TRUE(cam.project(f.T_c_w * world[i], &uv));
+      f.keypoints.emplace_back(static_cast<float>(uv.x()), static_cast<float>(uv.y()), 31.f);
+      f.bearings.push_back((f.T_c_w * world[i]).normalized());
+    }
+    f.descriptors.create(kN, 32, CV_8U);
+    for (int i = 0; i < kN; ++i) std::memcpy(f.descriptors.ptr<uint8_t>(i), desc[i].data(), 32);
+    f.valid.assign(kN, 1);
+    f.point_id.assign(kN, -1);
+    return f;
+  }
+};
+
+// Keypoints: [0, 60) tracked in every keyframe; [60, 90) missed by kf2 and kf3 and triangulated again between
+// them (duplicates); [90, 120) missed by kf2 and kf3, of which [100, 105) have a foreign descriptor in kf3 and
+// [105, 110) sit 8 px away from their point's projection in kf3.
+TEST(MapFusion, LinksMissedKeypointsAndMergesDuplicates) {
+  FusionScene s;
+  Frame f0 = s.frame(0, 0.0), f1 = s.frame(1, 0.15);
+  auto kf0 = Keyframe::fromFrame(f0, f0.T_c_w), kf1 = Keyframe::fromFrame(f1, f1.T_c_w);
+  std::vector<NewMapPoint> pts;
+  for (int i = 0; i < kN; ++i) pts.push_back({s.world[i], 1, i, 0, i});
+  int created = 0;
+  ASSERT_TRUE(s.map.createInitialMap(kf0, kf1, pts, kN, &created));
+  const std::vector<long> original = kf1->point_id;
+
+  Frame f2 = s.frame(2, 0.3), f3 = s.frame(3, 0.45);
+  for (int i = 0; i < 60; ++i) f2.point_id[i] = f3.point_id[i] = original[i];
+  for (int i = 100; i < 105; ++i)
+    for (int b = 0; b < 32; ++b) f3.descriptors.at<uint8_t>(i, b) ^= 0xff;
+  for (int i = 105; i < 110; ++i) f3.keypoints[i].pt.x += 8.f;
+  const long kf2 = s.map.addKeyframe(f2), kf3 = s.map.addKeyframe(f3);
+  std::vector<NewMapPoint> dup;
+  for (int i = 60; i < 90; ++i) dup.push_back({s.world[i], kf3, i, kf2, i});
+  s.map.addTriangulatedPoints(dup);
+  ASSERT_EQ(s.map.numPoints(), static_cast<size_t>(kN + 30));
+  ASSERT_EQ(s.map.trackedPoints(kf3, 1), 90);
+
+  TrackerParams p;
+  Matcher matcher(s.cam, p);
+  std::vector<FusionLink> links;
+  const std::vector<FusionTarget> targets = s.map.fusionTargets(kf3, p.fuse_neighbors);
+  ASSERT_FALSE(targets.empty());
+  EXPECT_EQ(targets[0].keyframe->id, kf3) << "the new keyframe first";
+  for (const FusionTarget& t : targets) {
+    const auto l = matcher.searchForFusion(t, p.fuse_radius_px);
+    links.insert(links.end(), l.begin(), l.end());
+  }
+  const std::pair<int, int> r = s.map.fuse(links);
+  EXPECT_EQ(r.second, 30) << "every duplicate merged";
+  EXPECT_EQ(r.first, 20) << "keypoints 90-99 and 110-119 of kf3 got their point";
+  EXPECT_EQ(s.map.numPoints(), static_cast<size_t>(kN));
+  // kf3 now shows the original points, except the 10 keypoints that do not fit.
+  EXPECT_EQ(s.map.trackedPoints(kf3, 1), kN - 10);
+  // Merged points keep the older id and all four views; kf2 shows them too.
+  EXPECT_EQ(s.map.trackedPoints(kf3, 4), 90);
+  EXPECT_EQ(s.map.trackedPoints(kf2, 4), 90);
+}
+
+TEST(MapFusion, TheMapperFusesEachNewKeyframeUnlessTurnedOff) {
+  for (const int neighbors : {0, 6}) {
+    FusionScene s;
+    Frame f0 = s.frame(0, 0.0), f1 = s.frame(1, 0.15);
+    auto kf0 = Keyframe::fromFrame(f0, f0.T_c_w), kf1 = Keyframe::fromFrame(f1, f1.T_c_w);
+    std::vector<NewMapPoint> pts;
+    for (int i = 0; i < kN; ++i) pts.push_back({s.world[i], 1, i, 0, i});
+    int created = 0;
+    ASSERT_TRUE(s.map.createInitialMap(kf0, kf1, pts, kN, &created));
+    Frame f2 = s.frame(2, 0.3);
+    for (int i = 0; i < 60; ++i) f2.point_id[i] = kf1->point_id[i];
+    const long kf2 = s.map.addKeyframe(f2);
+    TrackerParams p;
+    p.mapping_thread = false;
+    p.fuse_neighbors = neighbors;
+    p.ba_max_num_iterations = 0;
+    LocalMapper mapper(s.cam, p, &s.map);
+    mapper.createNewMapPoints(kf2);
+    // Fusion links the 60 keypoints tracking missed; without it they stay unlinked (all their points exist).
+    EXPECT_EQ(s.map.trackedPoints(kf2, 3), neighbors > 0 ? kN : 60) << "fuse_neighbors " << neighbors;
+    EXPECT_EQ(s.map.numPoints(), static_cast<size_t>(kN));
+  }
+}
+
+}  // namespace
+}  // namespace iraf_vo
