@@ -10,7 +10,6 @@
 
 #include "unit/tracking_test_utils.h"
 
-#include <random>
 
 namespace iraf_vo {
 namespace {
@@ -24,15 +23,10 @@ struct FusionScene {
   Map map;
 
   FusionScene() {
-    std::mt19937 rng(3);
-    std::uniform_real_distribution<double> ux(-1.5, 1.5), uy(-1.0, 1.0), uz(3.5, 5.0);
-    std::uniform_int_distribution<int> ub(0, 255);
-    for (int i = 0; i < kN; ++i) {
-      world.emplace_back(ux(rng), uy(rng), uz(rng));
-      std::array<uint8_t, 32> d;
-      for (auto& b : d) b = static_cast<uint8_t>(ub(rng));
-      desc.push_back(d);
-    }
+    test::SyntheticWorld w;  // random points 3.5-5 m ahead, random descriptors
+    w.addBox(kN, Eigen::Vector3d(-1.5, -1.0, 3.5), Eigen::Vector3d(1.5, 1.0, 5.0));
+    world = w.points;
+    desc = w.desc;
   }
   static Eigen::Isometry3d pose(double x) {
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
@@ -56,6 +50,16 @@ struct FusionScene {
     f.point_id.assign(kN, -1);
     return f;
   }
+  // The first two keyframes (x = 0 and 0.15) observing every point; returns the second one.
+  KeyframePtr initialMap() {
+    Frame f0 = frame(0, 0.0), f1 = frame(1, 0.15);
+    auto kf0 = Keyframe::fromFrame(f0, f0.T_c_w), kf1 = Keyframe::fromFrame(f1, f1.T_c_w);
+    std::vector<NewMapPoint> pts;
+    for (int i = 0; i < kN; ++i) pts.push_back({world[i], 1, i, 0, i});
+    int created = 0;
+    EXPECT_TRUE(map.createInitialMap(kf0, kf1, pts, kN, &created));
+    return kf1;
+  }
 };
 
 // Keypoints: [0, 60) tracked in every keyframe; [60, 90) missed by kf2 and kf3 and triangulated again between
@@ -63,13 +67,8 @@ struct FusionScene {
 // [105, 110) sit 8 px away from their point's projection in kf3.
 TEST(MapFusion, LinksMissedKeypointsAndMergesDuplicates) {
   FusionScene s;
-  Frame f0 = s.frame(0, 0.0), f1 = s.frame(1, 0.15);
-  auto kf0 = Keyframe::fromFrame(f0, f0.T_c_w), kf1 = Keyframe::fromFrame(f1, f1.T_c_w);
-  std::vector<NewMapPoint> pts;
-  for (int i = 0; i < kN; ++i) pts.push_back({s.world[i], 1, i, 0, i});
-  int created = 0;
-  ASSERT_TRUE(s.map.createInitialMap(kf0, kf1, pts, kN, &created));
-  const std::vector<long> original = kf1->point_id;
+  const std::vector<long> original = s.initialMap()->point_id;
+  ASSERT_EQ(s.map.numPoints(), static_cast<size_t>(kN));
 
   Frame f2 = s.frame(2, 0.3), f3 = s.frame(3, 0.45);
   for (int i = 0; i < 60; ++i) f2.point_id[i] = f3.point_id[i] = original[i];
@@ -84,6 +83,7 @@ TEST(MapFusion, LinksMissedKeypointsAndMergesDuplicates) {
   ASSERT_EQ(s.map.trackedPoints(kf3, 1), 90);
 
   TrackerParams p;
+  p.fuse_neighbors = 6;  // off by default (README: measured, not adopted)
   Matcher matcher(s.cam, p);
   std::vector<FusionLink> links;
   const std::vector<FusionTarget> targets = s.map.fusionTargets(kf3, p.fuse_neighbors);
@@ -107,12 +107,7 @@ TEST(MapFusion, LinksMissedKeypointsAndMergesDuplicates) {
 TEST(MapFusion, TheMapperFusesEachNewKeyframeUnlessTurnedOff) {
   for (const int neighbors : {0, 6}) {
     FusionScene s;
-    Frame f0 = s.frame(0, 0.0), f1 = s.frame(1, 0.15);
-    auto kf0 = Keyframe::fromFrame(f0, f0.T_c_w), kf1 = Keyframe::fromFrame(f1, f1.T_c_w);
-    std::vector<NewMapPoint> pts;
-    for (int i = 0; i < kN; ++i) pts.push_back({s.world[i], 1, i, 0, i});
-    int created = 0;
-    ASSERT_TRUE(s.map.createInitialMap(kf0, kf1, pts, kN, &created));
+    const KeyframePtr kf1 = s.initialMap();
     Frame f2 = s.frame(2, 0.3);
     for (int i = 0; i < 60; ++i) f2.point_id[i] = kf1->point_id[i];
     const long kf2 = s.map.addKeyframe(f2);

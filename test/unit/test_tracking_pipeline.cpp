@@ -101,6 +101,10 @@ TEST(TrackingPipeline, ThreadedEarlyBACommitIsReproducible) {
   p.mapping_thread = true;
   p.ba_deferred_commit = true;
   p.ba_commit_frames = 1;
+  // The BA's CPU-time budget (0.1 s) is a deliberate dependence on the machine's speed: on a starved virtual
+  // machine (the hypervisor taking ~70 % of the time) one run hit it and the other did not. Thread timing is
+  // what this test is about, so the budget is lifted here.
+  p.ba_max_solver_time_in_seconds = 10.0;
   const RunStats a = run(cam, p, 100), b = run(cam, p, 100);
   EXPECT_GE(a.tracked, 0.9 * a.frames);
   EXPECT_LT(a.ate, 0.02);

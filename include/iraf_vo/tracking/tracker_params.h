@@ -66,7 +66,7 @@ struct TrackerParams {
   int num_triangulation_neighbors = 6;
   double min_triangulation_parallax_deg = 1.0;
   double min_found_ratio = 0.25;
-  int fuse_neighbors = 6;               // map-point fusion with this many most covisible keyframes (0 = off)
+  int fuse_neighbors = 0;               // map-point fusion with this many most covisible keyframes (0 = off; see README)
   double fuse_radius_px = 3.0;          // fusion search window at octave 0 (times scale_factor^octave)
   // ---- sliding-window BA ----
   int ba_window_size = 10;
