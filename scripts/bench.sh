@@ -52,7 +52,7 @@ d = [y - x for x, y in zip(a, b)]
 wall, ticks = d[0], d[1:]
 expected = wall * ncpu * hz
 steal = ticks[7] if len(ticks) > 7 else 0.0
-had = sum(ticks[:7]) + sum(ticks[8:]) if len(ticks) > 8 else sum(ticks[:7])
+had = sum(ticks[:7])  # user .. softirq; guest / guest_nice (after steal) are counted in user / nice already
 share = 100.0 * had / expected if expected > 0 else 100.0
 print("host: %s had %.0f %% of %d cores x %.1f s wall (steal %.0f %%, unaccounted %.0f %%)%s" % (
     name, share, ncpu, wall, 100.0 * steal / max(expected, 1e-9), max(0.0, 100.0 - share - 100.0 * steal / max(expected, 1e-9)),
