@@ -33,11 +33,13 @@ if [ -d "$BUILD_DIR/test_results" ]; then
   catkin_test_results "$BUILD_DIR/test_results" || status=1
 fi
 
-# ---- sanitizer stages: configure + build the given targets in their own build dir, run the given ctest regex ----
-# sanitizer_stage NAME DIR SANITIZE_VALUE CTEST_REGEX TARGET...
+# ---- sanitizer stages: configure + build in their own build dir, run the given ctest regex ----
+# sanitizer_stage NAME DIR SANITIZE_VALUE CTEST_REGEX TEST_SELECTION [EXTRA_TARGET...]
+# TEST_SELECTION: regex of the gtests to build (CMake's selected_tests target: one target, so they compile in
+# parallel; a list of --target names is built one after the other).
 sanitizer_stage() {
-  local name="$1" dir="$2" value="$3" regex="$4"
-  shift 4
+  local name="$1" dir="$2" value="$3" regex="$4" selection="$5"
+  shift 5
   local t0
   t0=$(date +%s)
   mkdir -p "$dir"
@@ -45,9 +47,10 @@ sanitizer_stage() {
   mkdir -p "$ROS_LOG_DIR"
   cmake -S "$ROOT" -B "$dir" -DCMAKE_BUILD_TYPE=Release -DIRAF_VO_SANITIZE="$value" \
     -DPYTHON_EXECUTABLE=/usr/bin/python3 -DPython3_EXECUTABLE=/usr/bin/python3 \
-    -DCATKIN_ENABLE_TESTING=ON >"$dir/cmake.log" 2>&1 \
+    -DCATKIN_ENABLE_TESTING=ON -DIRAF_VO_SELECTED_TESTS="$selection" >"$dir/cmake.log" 2>&1 \
     || { cat "$dir/cmake.log"; echo "test.sh: $name cmake configure failed" >&2; exit 1; }
-  cmake --build "$dir" --target "$@" -j"$(nproc)"
+  cmake --build "$dir" --target selected_tests -j"$(nproc)"
+  if [ $# -gt 0 ]; then cmake --build "$dir" --target "$@" -j"$(nproc)"; fi
   rm -rf "$dir/test_results"
   echo "test.sh: running the unit tests under $name ($dir)"
   (cd "$dir" && ctest --output-on-failure -j"$(nproc)" -R "$regex") || status=1
@@ -62,21 +65,20 @@ default_on_in_ci() { if [ -n "$1" ]; then echo "$1"; elif [ "${CI:-}" = true ]; 
 # CAP_SYS_PTRACE; set detect_leaks=0 where it cannot run). Every UBSan check is fatal (CMakeLists.txt).
 if [ "$(default_on_in_ci "${IRAF_VO_SANITIZE:-}")" = 1 ]; then
   targets=()
-  for f in "$ROOT"/test/unit/test_*.cpp "$ROOT"/test/ros_unit/test_*.cpp; do targets+=("$(basename "$f" .cpp)"); done
   if [ "${IRAF_VO_SANITIZE_TOOLS:-0}" = 1 ]; then
     for f in "$ROOT"/src/tools/*.cpp; do targets+=("$(basename "$f" .cpp)"); done
   fi
   export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1}"
   export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
   export LSAN_OPTIONS="${LSAN_OPTIONS:-suppressions=$ROOT/test/sanitizers/lsan.supp:print_suppressions=0}"
-  sanitizer_stage "ASan + UBSan" "${IRAF_VO_ASAN_BUILD_DIR:-$ROOT/build-asan}" ON gtest "${targets[@]}"
+  sanitizer_stage "ASan + UBSan" "${IRAF_VO_ASAN_BUILD_DIR:-$ROOT/build-asan}" ON gtest '^test_' ${targets[@]+"${targets[@]}"}
 fi
 
 # ThreadSanitizer: core + the tracking tests (tracking thread + local-mapping thread).
 if [ "$(default_on_in_ci "${IRAF_VO_TSAN:-}")" = 1 ]; then
   tsan_tests=(test_tracking_roles test_tracking_pipeline test_tracking_health test_tracking_e2e)
   export TSAN_OPTIONS="${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1:suppressions=$ROOT/test/sanitizers/tsan.supp}"
-  sanitizer_stage ThreadSanitizer "${IRAF_VO_TSAN_BUILD_DIR:-$ROOT/build-tsan}" thread \
-    "gtest_($(IFS='|'; echo "${tsan_tests[*]}"))\$" "${tsan_tests[@]}"
+  tsan_regex="($(IFS='|'; echo "${tsan_tests[*]}"))\$"
+  sanitizer_stage ThreadSanitizer "${IRAF_VO_TSAN_BUILD_DIR:-$ROOT/build-tsan}" thread "gtest_$tsan_regex" "^$tsan_regex"
 fi
 exit $status

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <cmath>
 
 namespace iraf_vo {
 
@@ -80,15 +81,47 @@ void Map::clear() {
 // ---------------------------------------------------------------------------------------------
 // Tracking thread
 // ---------------------------------------------------------------------------------------------
-std::vector<LocalPoint> Map::localPoints() const {
+std::vector<LocalPoint> Map::localPoints(const CameraModel* camera) const {
   std::lock_guard<std::mutex> lk(mutex_);
   std::vector<LocalPoint> out;
   out.reserve(points_.size());
-  for (const auto& kv : points_) {
-    const MapPoint& mp = *kv.second;
-    out.push_back({mp.id, mp.p_w, mp.desc, mp.octave, mp.angle});
-  }
+  for (const auto& kv : points_) out.push_back(localPointLocked(*kv.second, camera));
   return out;
+}
+
+LocalPoint Map::localPointLocked(const MapPoint& mp, const CameraModel* camera) const {
+  LocalPoint lp{mp.id, mp.p_w, mp.desc, mp.octave, mp.angle};
+  for (const auto& [kf_id, kp] : mp.obs) {  // the oldest keyframe in the map that observes the point
+    auto kf = keyframes_.find(kf_id);
+    if (kf == keyframes_.end() || kp >= static_cast<int>(kf->second->keypoints.size())) continue;
+    lp.ref_center = kf->second->T_c_w.inverse().translation();
+    lp.ref_octave = kf->second->keypoints[kp].octave;
+    lp.has_ref = true;
+    Eigen::Vector2d uv;
+    Eigen::Matrix<double, 2, 3> J;
+    if (camera && camera->project(kf->second->T_c_w * mp.p_w, &uv, &J)) lp.ref_scale = imageScale(J);
+    break;
+  }
+  return lp;
+}
+
+double imageScale(const Eigen::Matrix<double, 2, 3>& J) {
+  const double det = (J * J.transpose()).determinant();
+  return det > 0 ? std::sqrt(std::sqrt(det)) : 0.0;
+}
+
+bool predictOctave(const LocalPoint& lp, const Eigen::Vector3d& center, double scale, double scale_factor, int* octave) {
+  *octave = lp.octave;
+  if (!lp.has_ref) return true;
+  const Eigen::Vector3d ref_ray = lp.p_w - lp.ref_center, ray = lp.p_w - center;
+  const double d_ref = ref_ray.norm(), d = ray.norm();
+  if (d_ref <= 1e-9 || d <= 1e-9) return true;
+  if (ref_ray.dot(ray) < 0.5 * d_ref * d) return false;  // viewing angle > 60 deg
+  const double ratio = (scale > 0 && lp.ref_scale > 0) ? scale / lp.ref_scale : d_ref / d;
+  const double level = lp.ref_octave + std::log(ratio) / std::log(scale_factor);
+  if (level < -1.0) return false;  // farther than octave 0 resolves
+  *octave = std::max(0, static_cast<int>(std::lround(level)));
+  return true;
 }
 
 bool Map::keyframePose(long id, Eigen::Isometry3d* T_c_w) const {

@@ -12,13 +12,7 @@
 
 namespace iraf_vo {
 
-namespace {
-
-LocalPoint toLocal(const MapPoint& mp) { return {mp.id, mp.p_w, mp.desc, mp.octave, mp.angle}; }
-
-}  // namespace
-
-std::vector<FusionTarget> Map::fusionTargets(long kf_id, int num_neighbors) const {
+std::vector<FusionTarget> Map::fusionTargets(long kf_id, int num_neighbors, const CameraModel* camera) const {
   std::lock_guard<std::mutex> lk(mutex_);
   std::vector<FusionTarget> out;
   auto it = keyframes_.find(kf_id);
@@ -49,12 +43,12 @@ std::vector<FusionTarget> Map::fusionTargets(long kf_id, int num_neighbors) cons
     FusionTarget t{k->second, nb.T_c_w, nb.point_id, {}};
     const std::unordered_set<long> nb_points(nb.point_id.begin(), nb.point_id.end());
     for (const MapPoint* mp : own)
-      if (!nb_points.count(mp->id)) t.candidates.push_back(toLocal(*mp));
+      if (!nb_points.count(mp->id)) t.candidates.push_back(localPointLocked(*mp, camera));
     out.push_back(std::move(t));
     for (long pid : nb.point_id) {  // the neighbor's points, into the keyframe
       if (pid < 0 || !seen.insert(pid).second) continue;
       auto pt = points_.find(pid);
-      if (pt != points_.end()) self.candidates.push_back(toLocal(*pt->second));
+      if (pt != points_.end()) self.candidates.push_back(localPointLocked(*pt->second, camera));
     }
   }
   out.insert(out.begin(), std::move(self));

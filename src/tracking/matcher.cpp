@@ -67,17 +67,21 @@ int Matcher::searchByProjection(const Frame& f, const Eigen::Isometry3d& T_c_w, 
     if (matches->pointOf(static_cast<int>(i)) >= 0) best_dist_of_kp[i] = -1;  // matched in an earlier pass: keep
   std::vector<int> candidates;
   int added = 0;
+  const Eigen::Vector3d center = T_c_w.inverse().translation();
   for (size_t li = 0; li < local.size(); ++li) {
     if (matches->keypointOf(static_cast<int>(li)) >= 0) continue;
     const LocalPoint& lp = local[li];
     const Eigen::Vector3d p_c = T_c_w * lp.p_w;
     if (p_c.z() <= 1e-6) continue;
     Eigen::Vector2d uv;
-    if (!cam_.project(p_c, &uv)) continue;
+    Eigen::Matrix<double, 2, 3> J;
+    if (!cam_.project(p_c, &uv, p_.predict_scale ? &J : nullptr)) continue;
     if (uv.x() < 0 || uv.y() < 0 || uv.x() >= w || uv.y() >= h) continue;
+    int octave = lp.octave;
+    if (p_.predict_scale && !predictOctave(lp, center, imageScale(J), f.scale_factor, &octave)) continue;
     if (visible) (*visible)[li] = 1;
-    const double r = radius * f.sigma(lp.octave);
-    f.featuresInArea(uv.x(), uv.y(), r, lp.octave - octave_margin, lp.octave + octave_margin, &candidates);
+    const double r = radius * f.sigma(octave);
+    f.featuresInArea(uv.x(), uv.y(), r, octave - octave_margin, octave + octave_margin, &candidates);
     int best = 256, second = 256, best_idx = -1, best_octave = -1, second_octave = -1;
     for (int j : candidates) {
       if (best_dist_of_kp[j] < 0) continue;
@@ -261,13 +265,19 @@ std::vector<FusionLink> Matcher::searchForFusion(const FusionTarget& target, dou
   for (int i = 0; i < n; ++i) order[fill[cellOf(kf.keypoints[i].pt)]++] = i;
 
   std::vector<int> best_dist(n, p_.match_threshold_low + 1), best_point(n, -1);
+  const Eigen::Vector3d center = target.T_c_w.inverse().translation();
   for (size_t c = 0; c < target.candidates.size(); ++c) {
     const LocalPoint& lp = target.candidates[c];
     const Eigen::Vector3d p_c = target.T_c_w * lp.p_w;
     if (p_c.z() <= 1e-6) continue;
     Eigen::Vector2d uv;
-    if (!cam_.project(p_c, &uv) || uv.x() < 0 || uv.y() < 0 || uv.x() >= w || uv.y() >= h) continue;
-    const double r = radius * kf.sigma(lp.octave);
+    Eigen::Matrix<double, 2, 3> J;
+    if (!cam_.project(p_c, &uv, p_.predict_scale ? &J : nullptr) || uv.x() < 0 || uv.y() < 0 || uv.x() >= w ||
+        uv.y() >= h)
+      continue;
+    int octave = lp.octave;
+    if (p_.predict_scale && !predictOctave(lp, center, imageScale(J), kf.scale_factor, &octave)) continue;
+    const double r = radius * kf.sigma(octave);
     const int x0 = std::max(0, static_cast<int>((uv.x() - r) / kCell)), x1 = std::min(cols - 1, static_cast<int>((uv.x() + r) / kCell));
     const int y0 = std::max(0, static_cast<int>((uv.y() - r) / kCell)), y1 = std::min(rows - 1, static_cast<int>((uv.y() + r) / kCell));
     int best = p_.match_threshold_low + 1, best_kp = -1;
@@ -276,7 +286,7 @@ std::vector<FusionLink> Matcher::searchForFusion(const FusionTarget& target, dou
         for (int k = start[cy * cols + cx]; k < start[cy * cols + cx + 1]; ++k) {
           const int j = order[k];
           const cv::KeyPoint& kp = kf.keypoints[j];
-          if (!kf.valid[j] || std::abs(kp.octave - lp.octave) > 1) continue;
+          if (!kf.valid[j] || std::abs(kp.octave - octave) > 1) continue;
           const double dx = kp.pt.x - uv.x(), dy = kp.pt.y - uv.y(), e2 = dx * dx + dy * dy;
           const double s = kf.sigma(kp.octave);
           if (e2 > r * r || e2 > kChi2TwoDof * s * s) continue;

@@ -9,7 +9,7 @@ namespace iraf_vo {
 PoseTrackingResult PoseTracker::trackLocalMap(Frame& cur, const Eigen::Isometry3d& T_predicted, Map* map) const {
   PoseTrackingResult res;
   auto t0 = SteadyClock::now();
-  const std::vector<LocalPoint> local = map->localPoints();
+  const std::vector<LocalPoint> local = map->localPoints(p_.predict_scale ? &cam_ : nullptr);
   MatchSet matches(cur.size(), local.size());
   std::vector<char> visible(local.size(), 0);
   Eigen::Isometry3d T = T_predicted;

@@ -44,6 +44,8 @@ const ParamTable<TrackerParams>& trackerParamTable() {
                    "Fewer -> wider window, then brute force + PnP"),
           boolParam("check_orientation", &P::check_orientation,
                     "Rotation-consistency histogram in brute-force matching"),
+          boolParam("predict_scale", &P::predict_scale,
+                    "Projection searches at the octave the point's image scale predicts, skipping views > 60 deg off"),
           doubleParam("pnp_threshold_px", &P::pnp_threshold_px, 0.1, 50.0, "PnP RANSAC threshold [px]"),
           intParam("pnp_iterations", &P::pnp_iterations, 10, 10000, "PnP RANSAC iterations"),
           intParam("pose_rounds", &P::pose_rounds, 1, 10, "Pose refinement rounds (solve, chi2 outlier test)"),

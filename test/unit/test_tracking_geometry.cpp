@@ -141,7 +141,7 @@ TEST(TrackingGeometry, TwoViewInitForwardMotion) {
 TEST(TrackingGeometry, TwoViewRefusesNoParallax) {
   for (const bool fisheye : {false, true}) {
     auto cam = makeCam(fisheye);
-    for (const Eigen::Vector3d rpy : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.5, 3.0, 0.2)}) {
+    for (const Eigen::Vector3d& rpy : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.5, 3.0, 0.2)}) {
       std::mt19937 rng(5);
       std::vector<Eigen::Vector3d> b1, b2;
       twoViews(*cam, makePose(rpy, {0, 0, 0}), false, &b1, &b2, &rng);

@@ -61,9 +61,28 @@ struct LocalPoint {
   long id;
   Eigen::Vector3d p_w;
   Descriptor desc;
-  int octave;
+  int octave;  // of the keypoint that created the point
   float angle;
+  // Scale prediction: the point shows at ref_octave from ref_center (the oldest keyframe in the map observing it),
+  // with the image scale ref_scale there (imageScale; 0 = not computed: the distance ratio stands in for it).
+  Eigen::Vector3d ref_center = Eigen::Vector3d::Zero();
+  int ref_octave = 0;
+  double ref_scale = 0.0;
+  bool has_ref = false;
 };
+
+/// Pixels per metre of a small patch facing the camera at the point where the projection Jacobian J (2x3) was
+/// taken: det(J J^T)^(1/4), the geometric mean of J's two singular values (J maps the ray direction to 0). For a
+/// pinhole at the image centre f / z; a fisheye shrinks the periphery, a pinhole stretches it.
+double imageScale(const Eigen::Matrix<double, 2, 3>& J);
+
+/// ORB-SLAM's scale prediction (MapPoint::PredictScale with Frame::isInFrustum's viewing-angle test), from the
+/// point's reference view: seen from `center` with image scale `scale` (imageScale) the point shows at octave
+/// ref_octave + log(scale / ref_scale) / log(scale_factor), rounded and >= 0 (ORB-SLAM uses d_ref / d for the
+/// ratio, which holds for a pinhole near the image centre only; it stands in when either scale is 0). False when the view direction turned by more than 60 deg from the creating one or the point
+/// is more than one octave farther than octave 0 resolves (the descriptor would not match). Without a reference
+/// (has_ref false) the point's own octave is returned.
+bool predictOctave(const LocalPoint& lp, const Eigen::Vector3d& center, double scale, double scale_factor, int* octave);
 
 /// A point triangulated between keypoint kp_a of keyframe kf_a (gives descriptor, octave, angle) and kp_b of kf_b.
 struct NewMapPoint {
@@ -131,7 +150,8 @@ class Map {
   /// keyframe) and applyLocalBA takes it, so BA results never land in the middle of a tracking step. Never
   /// held while waiting for the local mapper (back-pressure, synchronous mapping, reset).
   std::unique_lock<std::mutex> lockUpdates() { return std::unique_lock<std::mutex>(update_mutex_); }
-  std::vector<LocalPoint> localPoints() const;
+  /// With a camera, each point's reference image scale is computed too (LocalPoint::ref_scale).
+  std::vector<LocalPoint> localPoints(const CameraModel* camera = nullptr) const;
   bool keyframePose(long id, Eigen::Isometry3d* T_c_w) const;
   /// Points seen in the frame's view (visible) and matched (found): ORB-SLAM's found ratio.
   void countVisibility(const std::vector<LocalPoint>& local, const std::vector<char>& visible,
@@ -158,7 +178,7 @@ class Map {
   /// Fusion targets of keyframe kf_id (map_fusion.cpp): the keyframe itself with the points of its num_neighbors
   /// most covisible keyframes, and each of those neighbors with the keyframe's points (points a target observes
   /// already are left out). Empty when the keyframe is gone.
-  std::vector<FusionTarget> fusionTargets(long kf_id, int num_neighbors) const;
+  std::vector<FusionTarget> fusionTargets(long kf_id, int num_neighbors, const CameraModel* camera = nullptr) const;
   /// Applies links in order: a keypoint without a point gets the observation; a keypoint showing another point
   /// merges the two (the point with more observations keeps its id and position, takes the other's observations
   /// where it has none in that keyframe). Links to vanished keyframes / points, or to a point the keyframe
@@ -176,6 +196,7 @@ class Map {
   long createPointLocked(const Eigen::Vector3d& p_w, Keyframe& a, int kp_a, Keyframe& b, int kp_b);
   void erasePointLocked(long id);
   void mergePointsLocked(MapPoint* keep, MapPoint* gone);
+  LocalPoint localPointLocked(const MapPoint& mp, const CameraModel* camera) const;
 
   std::mutex update_mutex_;  // lockUpdates(); taken before mutex_
   mutable std::mutex mutex_;

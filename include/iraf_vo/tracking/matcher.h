@@ -41,7 +41,9 @@ class Matcher {
   Matcher(const CameraModel& camera, const TrackerParams& params) : cam_(camera), p_(params) {}
 
   /// Projects the unmatched local points with T_c_w and matches each to the best keypoint within
-  /// radius * sigma(octave) pixels and octave +- octave_margin (Hamming <= match_threshold_high, ratio test
+  /// radius * sigma(octave) pixels and octave +- octave_margin, octave = the point's predicted octave
+  /// (predictOctave, which also drops points seen > 60 deg off their first view) with predict_scale, else the
+  /// octave it was created at (Hamming <= match_threshold_high, ratio test
   /// against the second best of the same octave). Keeps matches already in *matches. Marks the points that
   /// project into the image in *visible (optional). Returns the number of matches added.
   int searchByProjection(const Frame& f, const Eigen::Isometry3d& T_c_w, const std::vector<LocalPoint>& local,
@@ -62,7 +64,8 @@ class Matcher {
 
   /// Map-point fusion: projects the target's candidate points into its keyframe and links each keypoint to the
   /// candidate with the least Hamming distance (<= match_threshold_low) among those projecting within
-  /// radius * sigma(point octave) pixels and the chi2 gate (5.991 sigma(keypoint octave)^2), octave +- 1.
+  /// radius * sigma(point octave) pixels and the chi2 gate (5.991 sigma(keypoint octave)^2), octave +- 1 (the point
+  /// octave predicted as in searchByProjection).
   std::vector<FusionLink> searchForFusion(const FusionTarget& target, double radius) const;
 
  private:

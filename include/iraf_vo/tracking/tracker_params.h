@@ -66,6 +66,9 @@ struct TrackerParams {
   int num_triangulation_neighbors = 6;
   double min_triangulation_parallax_deg = 1.0;
   double min_found_ratio = 0.25;
+  bool predict_scale = false;           // projection searches expect a point at the octave its image scale predicts
+                                        // (ORB-SLAM's PredictScale) and skip it beyond 60 deg off its reference view;
+                                        // false: at the octave it was created at, from any side (see README)
   int fuse_neighbors = 0;               // map-point fusion with this many most covisible keyframes (0 = off; see README)
   double fuse_radius_px = 3.0;          // fusion search window at octave 0 (times scale_factor^octave)
   // ---- sliding-window BA ----
