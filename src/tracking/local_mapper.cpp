@@ -169,7 +169,7 @@ void LocalMapper::createNewMapPoints(long kf_id) {
 void LocalMapper::fuseMapPoints(long kf_id) {
   if (p_.fuse_neighbors <= 0) return;
   std::vector<FusionLink> links;
-  for (const FusionTarget& t : map_->fusionTargets(kf_id, p_.fuse_neighbors, &cam_)) {
+  for (const FusionTarget& t : map_->fusionTargets(kf_id, p_.fuse_neighbors, p_.predict_scale ? &cam_ : nullptr)) {
     const std::vector<FusionLink> l = matcher_.searchForFusion(t, p_.fuse_radius_px);
     links.insert(links.end(), l.begin(), l.end());
   }

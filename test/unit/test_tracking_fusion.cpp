@@ -123,5 +123,24 @@ TEST(MapFusion, TheMapperFusesEachNewKeyframeUnlessTurnedOff) {
   }
 }
 
+// The scale-prediction reference (tracker.predict_scale) is copied only when a camera is given: the oldest keyframe
+// observing the point (kf0 at the origin), its keypoint's octave and its image scale there (pinhole: f / z at the
+// axis, up to cos^-0.5 more off it).
+TEST(MapFusion, LocalPointsCarryTheScaleReferenceOnlyWhenAsked) {
+  FusionScene s;
+  s.initialMap();
+  for (const LocalPoint& lp : s.map.localPoints()) EXPECT_FALSE(lp.has_ref);
+  const std::vector<LocalPoint> local = s.map.localPoints(&s.cam);
+  ASSERT_EQ(local.size(), static_cast<size_t>(kN));
+  for (const LocalPoint& lp : local) {
+    ASSERT_TRUE(lp.has_ref);
+    EXPECT_LT(lp.ref_center.norm(), 1e-9);
+    EXPECT_EQ(lp.ref_octave, 0);
+    const double axis = 450.0 / lp.p_w.z();
+    EXPECT_GE(lp.ref_scale, axis * (1 - 1e-9));
+    EXPECT_LE(lp.ref_scale, axis * 1.1);
+  }
+}
+
 }  // namespace
 }  // namespace iraf_vo

@@ -150,7 +150,7 @@ class Map {
   /// keyframe) and applyLocalBA takes it, so BA results never land in the middle of a tracking step. Never
   /// held while waiting for the local mapper (back-pressure, synchronous mapping, reset).
   std::unique_lock<std::mutex> lockUpdates() { return std::unique_lock<std::mutex>(update_mutex_); }
-  /// With a camera, each point's reference image scale is computed too (LocalPoint::ref_scale).
+  /// With a camera, each point's scale-prediction reference too (LocalPoint::ref_*; predictOctave), else none.
   std::vector<LocalPoint> localPoints(const CameraModel* camera = nullptr) const;
   bool keyframePose(long id, Eigen::Isometry3d* T_c_w) const;
   /// Points seen in the frame's view (visible) and matched (found): ORB-SLAM's found ratio.
