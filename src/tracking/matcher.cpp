@@ -59,9 +59,19 @@ std::vector<char> rotationConsistent(const std::vector<float>& angle_differences
 }
 
 // ---------------------------------------------------------------------------------------------
+bool Matcher::projectInView(const LocalPoint& lp, const Eigen::Isometry3d& T_c_w, const Eigen::Vector3d& center,
+                            double scale_factor, Eigen::Vector2d* uv, int* octave) const {
+  const Eigen::Vector3d p_c = T_c_w * lp.p_w;
+  if (p_c.z() <= 1e-6) return false;
+  Eigen::Matrix<double, 2, 3> J;
+  if (!cam_.project(p_c, uv, p_.predict_scale ? &J : nullptr)) return false;
+  if (uv->x() < 0 || uv->y() < 0 || uv->x() >= cam_.width() || uv->y() >= cam_.height()) return false;
+  *octave = lp.octave;
+  return !p_.predict_scale || predictOctave(lp, center, imageScale(J), scale_factor, octave);
+}
+
 int Matcher::searchByProjection(const Frame& f, const Eigen::Isometry3d& T_c_w, const std::vector<LocalPoint>& local,
                                 double radius, int octave_margin, MatchSet* matches, std::vector<char>* visible) const {
-  const double w = cam_.width(), h = cam_.height();
   std::vector<int> best_dist_of_kp(f.size(), 256);
   for (size_t i = 0; i < f.size(); ++i)
     if (matches->pointOf(static_cast<int>(i)) >= 0) best_dist_of_kp[i] = -1;  // matched in an earlier pass: keep
@@ -71,14 +81,9 @@ int Matcher::searchByProjection(const Frame& f, const Eigen::Isometry3d& T_c_w, 
   for (size_t li = 0; li < local.size(); ++li) {
     if (matches->keypointOf(static_cast<int>(li)) >= 0) continue;
     const LocalPoint& lp = local[li];
-    const Eigen::Vector3d p_c = T_c_w * lp.p_w;
-    if (p_c.z() <= 1e-6) continue;
     Eigen::Vector2d uv;
-    Eigen::Matrix<double, 2, 3> J;
-    if (!cam_.project(p_c, &uv, p_.predict_scale ? &J : nullptr)) continue;
-    if (uv.x() < 0 || uv.y() < 0 || uv.x() >= w || uv.y() >= h) continue;
-    int octave = lp.octave;
-    if (p_.predict_scale && !predictOctave(lp, center, imageScale(J), f.scale_factor, &octave)) continue;
+    int octave;
+    if (!projectInView(lp, T_c_w, center, f.scale_factor, &uv, &octave)) continue;
     if (visible) (*visible)[li] = 1;
     const double r = radius * f.sigma(octave);
     f.featuresInArea(uv.x(), uv.y(), r, octave - octave_margin, octave + octave_margin, &candidates);
@@ -268,15 +273,9 @@ std::vector<FusionLink> Matcher::searchForFusion(const FusionTarget& target, dou
   const Eigen::Vector3d center = target.T_c_w.inverse().translation();
   for (size_t c = 0; c < target.candidates.size(); ++c) {
     const LocalPoint& lp = target.candidates[c];
-    const Eigen::Vector3d p_c = target.T_c_w * lp.p_w;
-    if (p_c.z() <= 1e-6) continue;
     Eigen::Vector2d uv;
-    Eigen::Matrix<double, 2, 3> J;
-    if (!cam_.project(p_c, &uv, p_.predict_scale ? &J : nullptr) || uv.x() < 0 || uv.y() < 0 || uv.x() >= w ||
-        uv.y() >= h)
-      continue;
-    int octave = lp.octave;
-    if (p_.predict_scale && !predictOctave(lp, center, imageScale(J), kf.scale_factor, &octave)) continue;
+    int octave;
+    if (!projectInView(lp, target.T_c_w, center, kf.scale_factor, &uv, &octave)) continue;
     const double r = radius * kf.sigma(octave);
     const int x0 = std::max(0, static_cast<int>((uv.x() - r) / kCell)), x1 = std::min(cols - 1, static_cast<int>((uv.x() + r) / kCell));
     const int y0 = std::max(0, static_cast<int>((uv.y() - r) / kCell)), y1 = std::min(rows - 1, static_cast<int>((uv.y() + r) / kCell));

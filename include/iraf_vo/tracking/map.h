@@ -79,8 +79,9 @@ double imageScale(const Eigen::Matrix<double, 2, 3>& J);
 /// ORB-SLAM's scale prediction (MapPoint::PredictScale with Frame::isInFrustum's viewing-angle test), from the
 /// point's reference view: seen from `center` with image scale `scale` (imageScale) the point shows at octave
 /// ref_octave + log(scale / ref_scale) / log(scale_factor), rounded and >= 0 (ORB-SLAM uses d_ref / d for the
-/// ratio, which holds for a pinhole near the image centre only; it stands in when either scale is 0). False when the view direction turned by more than 60 deg from the creating one or the point
-/// is more than one octave farther than octave 0 resolves (the descriptor would not match). Without a reference
+/// ratio, which holds for a pinhole near the image centre only; it stands in when either scale is 0). False when
+/// the view direction turned by more than 60 deg from the reference one or the point is more than one octave
+/// farther than octave 0 resolves (the descriptor would not match). Without a reference
 /// (has_ref false) the point's own octave is returned.
 bool predictOctave(const LocalPoint& lp, const Eigen::Vector3d& center, double scale, double scale_factor, int* octave);
 

@@ -42,7 +42,7 @@ class Matcher {
 
   /// Projects the unmatched local points with T_c_w and matches each to the best keypoint within
   /// radius * sigma(octave) pixels and octave +- octave_margin, octave = the point's predicted octave
-  /// (predictOctave, which also drops points seen > 60 deg off their first view) with predict_scale, else the
+  /// (predictOctave, which also drops points seen > 60 deg off their reference view) with predict_scale, else the
   /// octave it was created at (Hamming <= match_threshold_high, ratio test
   /// against the second best of the same octave). Keeps matches already in *matches. Marks the points that
   /// project into the image in *visible (optional). Returns the number of matches added.
@@ -69,6 +69,12 @@ class Matcher {
   std::vector<FusionLink> searchForFusion(const FusionTarget& target, double radius) const;
 
  private:
+  /// The point's pixel in the image seen with T_c_w (camera centre `center`) and the octave to search it at
+  /// (predictOctave with predict_scale, else its own); false when it is behind the camera, outside the image or,
+  /// with predict_scale, out of the predicted scale / viewing-angle range.
+  bool projectInView(const LocalPoint& lp, const Eigen::Isometry3d& T_c_w, const Eigen::Vector3d& center,
+                     double scale_factor, Eigen::Vector2d* uv, int* octave) const;
+
   const CameraModel& cam_;
   const TrackerParams& p_;
 };
