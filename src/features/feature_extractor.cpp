@@ -14,10 +14,7 @@ namespace {
 constexpr int kPatchSize = 31;  // ORB patch (descriptor) size
 }  // namespace
 
-FeatureExtractor::FeatureExtractor() {
-  // Only ORB's rotated-BRIEF descriptor computation is used (keypoints are provided, one level at a time).
-  orb_ = cv::ORB::create(500, 1.2f, 1, kEdgeThreshold, 0, 2, cv::ORB::FAST_SCORE, kPatchSize, 20);
-}
+FeatureExtractor::FeatureExtractor() = default;
 
 void FeatureExtractor::buildPyramid(const cv::Mat& gray8, double scale_factor, int n_levels,
                                     std::vector<cv::Mat>* pyramid) {
@@ -144,17 +141,14 @@ void FeatureExtractor::describeKept(const CullResult& cr, const FeatureParams& p
       }
       cv::KeyPoint k = level_kps_[l][i];
       k.angle = angle;
-      k.octave = 0;  // ORB sees the level image as a single-level pyramid
       level_batch_.push_back(k);
       batch_index_.push_back(g);
     }
     if (level_batch_.empty()) continue;
-    const size_t n_in = level_batch_.size();
-    orb_->compute(img, level_batch_, desc_);
-    if (level_batch_.size() != n_in || desc_.rows != static_cast<int>(n_in))
-      throw std::logic_error("FeatureExtractor: ORB descriptor computation dropped keypoints (border)");
-    desc_.copyTo(frame->descriptors.rowRange(row, row + desc_.rows));
-    row += desc_.rows;
+    const int n_in = static_cast<int>(level_batch_.size());
+    cv::Mat rows = frame->descriptors.rowRange(row, row + n_in);
+    describer_.compute(img, level_batch_, &rows);
+    row += n_in;
     for (size_t i : batch_index_) {
       frame->keypoints.push_back(all_kps_[i]);
       frame->stability.push_back(cr.stability[i]);

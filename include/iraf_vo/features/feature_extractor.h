@@ -15,6 +15,7 @@
 #include "iraf_vo/features/feature_culling.h"
 #include "iraf_vo/features/feature_frame.h"
 #include "iraf_vo/features/feature_params.h"
+#include "iraf_vo/features/orb_descriptor.h"
 
 namespace iraf_vo {
 
@@ -66,7 +67,7 @@ class FeatureExtractor {
   void summarizeCellThresholds(FeatureStats* st);
 
   std::vector<cv::Mat> pyramid_;
-  cv::Mat level0_, desc_;
+  cv::Mat level0_;
   CellThresholdEstimator threshold_estimator_;
   CellFastDetector fast_detector_;
   std::vector<double> thresholds_, cell_thresholds_;
@@ -74,7 +75,7 @@ class FeatureExtractor {
   std::vector<cv::KeyPoint> all_kps_;                 // the same, concatenated, level-0 coordinates
   std::vector<cv::KeyPoint> candidates_, level_batch_;
   std::vector<size_t> batch_index_;
-  cv::Ptr<cv::ORB> orb_;  // descriptor computation only (rotated BRIEF), one level at a time
+  OrbDescriptor describer_;  // rotated BRIEF, one level at a time (= cv::ORB's bytes)
 };
 
 }  // namespace iraf_vo

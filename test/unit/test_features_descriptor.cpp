@@ -1,0 +1,150 @@
+// OrbDescriptor: ORB's pattern read from cv::ORB, and descriptors equal to cv::ORB::compute byte for byte
+// (scalar and AVX2 kernels), on synthetic textures and, when present, the shared EuRoC frames.
+#include <gtest/gtest.h>
+
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <cstdlib>
+#include <fstream>
+#include <set>
+#include <stdexcept>
+#include <string>
+
+#include "iraf_vo/features/cell_grid.h"
+#include "iraf_vo/features/feature_extractor.h"
+#include "iraf_vo/features/orb_descriptor.h"
+
+namespace iraf_vo {
+namespace {
+
+cv::Ptr<cv::ORB> referenceOrb() { return cv::ORB::create(500, 1.2f, 1, kEdgeThreshold, 0, 2, cv::ORB::FAST_SCORE, 31, 20); }
+
+// A textured test image: blurred noise plus a few rectangles and discs (corners and smooth edges).
+cv::Mat texture(int cols, int rows, uint64_t seed) {
+  cv::RNG rng(seed);
+  cv::Mat img(rows, cols, CV_8U);
+  rng.fill(img, cv::RNG::UNIFORM, 0, 256);
+  cv::GaussianBlur(img, img, cv::Size(5, 5), 1.2);
+  for (int i = 0; i < 30; ++i) {
+    const cv::Point a(rng.uniform(0, cols), rng.uniform(0, rows));
+    if (i % 2)
+      cv::rectangle(img, a, a + cv::Point(rng.uniform(5, 40), rng.uniform(5, 40)), cv::Scalar(rng.uniform(0, 256)), -1);
+    else
+      cv::circle(img, a, rng.uniform(3, 25), cv::Scalar(rng.uniform(0, 256)), -1);
+  }
+  return img;
+}
+
+// FAST corners >= 19 px from the border with angles spread over [0, 360) (every 0.37 deg, then random).
+std::vector<cv::KeyPoint> keypointsOf(const cv::Mat& img, int max_kps, uint64_t seed) {
+  std::vector<cv::KeyPoint> kps;
+  cv::FAST(img, kps, 7);
+  cv::KeyPointsFilter::runByImageBorder(kps, img.size(), kEdgeThreshold + 1);
+  cv::KeyPointsFilter::retainBest(kps, max_kps);
+  cv::RNG rng(seed);
+  for (size_t i = 0; i < kps.size(); ++i) {
+    kps[i].angle = i < 973 ? 0.37f * static_cast<float>(i) : rng.uniform(0.f, 360.f);
+    kps[i].octave = 0;
+    kps[i].size = 31.f;
+  }
+  return kps;
+}
+
+// Rows of `ours` that differ from cv::ORB's descriptors of the same keypoints on `img`.
+int differingRows(const cv::Mat& img, const std::vector<cv::KeyPoint>& kps, const cv::Mat& ours) {
+  std::vector<cv::KeyPoint> ref_kps = kps;
+  cv::Mat ref;
+  referenceOrb()->compute(img, ref_kps, ref);
+  EXPECT_EQ(ref_kps.size(), kps.size());
+  EXPECT_EQ(ref.rows, ours.rows);
+  int differ = 0;
+  for (int r = 0; r < std::min(ref.rows, ours.rows); ++r) differ += cv::norm(ref.row(r), ours.row(r), cv::NORM_HAMMING) > 0;
+  return differ;
+}
+
+TEST(OrbDescriptor, PatternReadFromOpenCvIsTwoHundredFiftySixDistinctPairsInsideThePatch) {
+  const OrbPattern& p = orbPatternFromOpenCv();
+  ASSERT_TRUE(p.valid()) << "the probe could not read ORB's pattern from cv::ORB";
+  std::set<std::pair<std::pair<int, int>, std::pair<int, int>>> pairs;
+  for (int k = 0; k < 256; ++k) {
+    EXPECT_NE(p.p0[k], p.p1[k]) << "pair " << k;
+    for (const cv::Point& q : {p.p0[k], p.p1[k]}) {
+      EXPECT_LE(std::abs(q.x), 15) << "pair " << k;  // a 31 x 31 patch
+      EXPECT_LE(std::abs(q.y), 15) << "pair " << k;
+    }
+    EXPECT_EQ(p.x0[k], static_cast<float>(p.p0[k].x));
+    EXPECT_EQ(p.y1[k], static_cast<float>(p.p1[k].y));
+    pairs.insert({{p.p0[k].x, p.p0[k].y}, {p.p1[k].x, p.p1[k].y}});
+  }
+  EXPECT_EQ(pairs.size(), 256u);
+}
+
+TEST(OrbDescriptor, ReadingThePatternFailsCleanlyWhenTheDescriptorIsNotOrb31) {
+  // With WTA_K 3 a descriptor bit is no comparison of one point pair: no pair explains the probe's bits,
+  // so the reader reports failure (and OrbDescriptor would fall back to cv::ORB).
+  OrbPattern p;
+  EXPECT_FALSE(readOrbPattern(cv::ORB::create(500, 1.2f, 1, kEdgeThreshold, 0, 3, cv::ORB::FAST_SCORE, 31, 20), &p));
+  EXPECT_FALSE(p.valid());
+}
+
+TEST(OrbDescriptor, EqualsOpenCvOnSyntheticTexturesAtAllAnglesWithBothKernels) {
+  OrbDescriptor scalar(false), simd(true);
+  ASSERT_FALSE(scalar.usesOpenCvFallback()) << "scalar kernel differed from cv::ORB at start-up";
+  EXPECT_FALSE(scalar.usesSimd());
+#if defined(__x86_64__)
+  if (__builtin_cpu_supports("avx2")) {
+    EXPECT_TRUE(simd.usesSimd()) << "AVX2 kernel not in use on an AVX2 CPU";
+    EXPECT_FALSE(simd.usesOpenCvFallback());
+  }
+#endif
+  for (uint64_t seed : {1u, 2u, 3u}) {
+    const cv::Mat img = texture(320 + 17 * static_cast<int>(seed), 240, seed);  // odd widths: unaligned rows
+    const std::vector<cv::KeyPoint> kps = keypointsOf(img, 1500, seed);
+    ASSERT_GT(kps.size(), 500u);
+    cv::Mat d_scalar, d_simd;
+    scalar.compute(img, kps, &d_scalar);
+    simd.compute(img, kps, &d_simd);
+    EXPECT_EQ(differingRows(img, kps, d_scalar), 0) << "seed " << seed;
+    EXPECT_EQ(differingRows(img, kps, d_simd), 0) << "seed " << seed;
+  }
+}
+
+TEST(OrbDescriptor, EqualsOpenCvOnTheSharedEurocFramesAtEveryPyramidLevel) {
+  const std::string file =
+      std::string(IRAF_VO_SHARED_DIR) + "/data/euroc_mh01_600/mav0/cam0/data/1403636584763555584.png";
+  if (!std::ifstream(file).good()) GTEST_SKIP() << "shared EuRoC frame not found: " << file;
+  const cv::Mat img = cv::imread(file, cv::IMREAD_GRAYSCALE);
+  ASSERT_FALSE(img.empty()) << file;
+  std::vector<cv::Mat> pyramid;
+  FeatureExtractor::buildPyramid(img, 1.2, 8, &pyramid);
+  OrbDescriptor describer;
+  for (size_t l = 0; l < pyramid.size(); ++l) {
+    const std::vector<cv::KeyPoint> kps = keypointsOf(pyramid[l], 600, l);
+    if (kps.empty()) continue;
+    cv::Mat d;
+    describer.compute(pyramid[l], kps, &d);
+    EXPECT_EQ(differingRows(pyramid[l], kps, d), 0) << "level " << l;
+  }
+}
+
+TEST(OrbDescriptor, RejectsAKeypointCloserThanTheEdgeThresholdNamingIt) {
+  const cv::Mat img = texture(200, 150, 7);
+  OrbDescriptor describer;
+  cv::Mat d;
+  std::vector<cv::KeyPoint> kps = {cv::KeyPoint(100.f, 75.f, 31.f, 10.f), cv::KeyPoint(kEdgeThreshold - 1.f, 75.f, 31.f, 0.f)};
+  try {
+    describer.compute(img, kps, &d);
+    FAIL() << "no exception for a keypoint 18 px from the border";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("keypoint 1 at (18, 75)"), std::string::npos) << e.what();
+  }
+  kps.pop_back();
+  describer.compute(img, kps, &d);
+  EXPECT_EQ(d.rows, 1);
+  EXPECT_EQ(differingRows(img, kps, d), 0);
+}
+
+}  // namespace
+}  // namespace iraf_vo
