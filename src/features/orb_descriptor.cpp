@@ -33,6 +33,33 @@ cv::Mat blurSubmatrix(const cv::Mat& level, cv::Mat* padded) {
   return inner;
 }
 
+// The 7 float taps OpenCV's GaussianBlur(7x7, sigma 2) filters a sub-matrix with.
+const float* blurTaps() {
+  static const cv::Mat k = cv::getGaussianKernel(7, 2, CV_32F);
+  return k.ptr<float>();
+}
+
+// The same blur by orb_blur_avx2 (bytes equal to blurSubmatrix's where it passed the start-up check).
+cv::Mat blurSubmatrixSimd(const cv::Mat& level, cv::Mat* padded, std::vector<float>* ring) {
+  cv::copyMakeBorder(level, *padded, kPad, kPad, kPad, kPad, cv::BORDER_REFLECT_101);
+  orb_blur_avx2::blurInPlace(padded, kPad, level.cols, level.rows, blurTaps(), ring);
+  return (*padded)(cv::Rect(kPad, kPad, level.cols, level.rows));
+}
+
+// orb_blur_avx2 against OpenCV on random images of a few sizes (odd widths: the scalar tails too).
+bool simdBlurMatchesOpenCv() {
+  if (!orb_blur_avx2::built() || !__builtin_cpu_supports("avx2") || !__builtin_cpu_supports("fma")) return false;
+  cv::RNG rng(0x0b1a5);
+  cv::Mat padded_a, padded_b;
+  std::vector<float> ring;
+  for (const cv::Size& sz : {cv::Size(64, 48), cv::Size(203, 97), cv::Size(37, 41), cv::Size(752, 480)}) {
+    cv::Mat img(sz, CV_8U);
+    rng.fill(img, cv::RNG::UNIFORM, 0, 256);
+    if (cv::norm(blurSubmatrix(img, &padded_a), blurSubmatrixSimd(img, &padded_b, &ring), cv::NORM_INF) != 0) return false;
+  }
+  return true;
+}
+
 // ---- Reading the pattern from cv::ORB -------------------------------------------------------------
 // A dot image (one pixel of value `dot` on background `bg`) blurs into a 7x7 bump. cv::ORB describes it
 // from keypoints at angle 0 placed at every offset d in [-kProbe, kProbe]^2 from the dot. Bit k from the
@@ -199,15 +226,19 @@ OrbDescriptor::OrbDescriptor(bool use_simd) : orb_(makeOrb()) {
   static const bool scalar_ok = kernelMatchesOpenCv(describeScalar, makeOrb(), pattern);
   static const Kernel simd = __builtin_cpu_supports("avx2") ? orb_descriptor_avx2::kernel() : nullptr;
   static const bool simd_ok = kernelMatchesOpenCv(simd, makeOrb(), pattern);
+  static const bool simd_blur_ok = simdBlurMatchesOpenCv();
   if (use_simd && simd_ok) {
     kernel_ = simd;
     simd_ = true;
   } else if (scalar_ok) {
     kernel_ = describeScalar;
   }
+  simd_blur_ = use_simd && simd_blur_ok;
 }
 
-cv::Mat OrbDescriptor::blurLikeOrb(const cv::Mat& level) { return blurSubmatrix(level, &padded_); }
+cv::Mat OrbDescriptor::blurLikeOrb(const cv::Mat& level) {
+  return simd_blur_ ? blurSubmatrixSimd(level, &padded_, &blur_rows_) : blurSubmatrix(level, &padded_);
+}
 
 void OrbDescriptor::compute(const cv::Mat& level, const std::vector<cv::KeyPoint>& kps, cv::Mat* descriptors) {
   if (level.empty() || level.type() != CV_8UC1)
@@ -233,7 +264,7 @@ void OrbDescriptor::compute(const cv::Mat& level, const std::vector<cv::KeyPoint
     return;
   }
   static_assert(kMaxReach + 3 < kPad + kEdgeThreshold, "samples and blur stay inside the padded buffer");
-  const cv::Mat blurred = blurSubmatrix(level, &padded_);
+  const cv::Mat blurred = blurLikeOrb(level);
   const OrbPattern& pattern = orbPatternFromOpenCv();
   const int step = static_cast<int>(blurred.step);
   for (size_t i = 0; i < kps.size(); ++i)

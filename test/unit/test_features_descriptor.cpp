@@ -129,6 +129,32 @@ TEST(OrbDescriptor, EqualsOpenCvOnTheSharedEurocFramesAtEveryPyramidLevel) {
   }
 }
 
+// cv::ORB's own blur: the level inside a 23-px reflect-101 border, blurred in place as a sub-matrix.
+cv::Mat opencvOrbBlur(const cv::Mat& level) {
+  cv::Mat padded;
+  cv::copyMakeBorder(level, padded, 23, 23, 23, 23, cv::BORDER_REFLECT_101);
+  cv::Mat inner = padded(cv::Rect(23, 23, level.cols, level.rows));
+  cv::GaussianBlur(inner, inner, cv::Size(7, 7), 2, 2, cv::BORDER_REFLECT_101);
+  return inner.clone();
+}
+
+TEST(OrbDescriptor, BlurEqualsOpenCvsSubmatrixBlurOnEveryLevelAndOddSizes) {
+  OrbDescriptor describer;
+#if defined(__x86_64__)
+  if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"))
+    EXPECT_TRUE(describer.usesSimdBlur()) << "AVX2 + FMA blur not in use on an AVX2 + FMA CPU";
+#endif
+  std::vector<cv::Mat> levels;
+  FeatureExtractor::buildPyramid(texture(752, 480, 11), 1.2, 8, &levels);
+  for (const cv::Size& sz : {cv::Size(9, 7), cv::Size(33, 65), cv::Size(301, 199)}) {
+    levels.push_back(texture(sz.width, sz.height, 12));
+  }
+  for (const cv::Mat& level : levels) {
+    const cv::Mat ours = describer.blurLikeOrb(level).clone();
+    EXPECT_EQ(cv::norm(ours, opencvOrbBlur(level), cv::NORM_INF), 0) << level.cols << "x" << level.rows;
+  }
+}
+
 TEST(OrbDescriptor, RejectsAKeypointCloserThanTheEdgeThresholdNamingIt) {
   const cv::Mat img = texture(200, 150, 7);
   OrbDescriptor describer;

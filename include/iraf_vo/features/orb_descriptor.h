@@ -50,18 +50,21 @@ class OrbDescriptor {
   /// True when compute() samples with the AVX2 kernel.
   bool usesSimd() const { return simd_; }
 
+  /// True when the blur runs in our AVX2 + FMA loop (it equalled OpenCV's at start-up), false when
+  /// through cv::GaussianBlur.
+  bool usesSimdBlur() const { return simd_blur_; }
+
   /// ORB's blur, exactly: `level` copied into a reflect-101 border and blurred in place (7x7, sigma 2)
   /// as a sub-matrix, as cv::ORB does (OpenCV blurs a sub-matrix by another rounding than a whole image).
   /// Returns the blurred level (a view into an internal buffer, valid until the next call).
   cv::Mat blurLikeOrb(const cv::Mat& level);
 
  private:
-  bool matchesOpenCv();
-
   cv::Ptr<cv::ORB> orb_;  // the reference, and the fallback
   Kernel kernel_ = nullptr;
-  bool simd_ = false;
+  bool simd_ = false, simd_blur_ = false;
   cv::Mat padded_;
+  std::vector<float> blur_rows_;
   std::vector<cv::KeyPoint> fallback_kps_;
 };
 
@@ -69,5 +72,13 @@ namespace orb_descriptor_avx2 {
 /// The AVX2 sampling kernel (orb_descriptor_avx2.cpp); nullptr when not built.
 OrbDescriptor::Kernel kernel();
 }  // namespace orb_descriptor_avx2
+
+namespace orb_blur_avx2 {
+/// True when orb_blur_avx2.cpp was built with AVX2 + FMA.
+bool built();
+/// Blurs the cols x rows block at (pad, pad) of `padded` in place with the 7-tap kernel k (row pass, then
+/// column pass; `ring` is scratch). Needs >= 3 px of border and AVX2 + FMA.
+void blurInPlace(cv::Mat* padded, int pad, int cols, int rows, const float* k, std::vector<float>* ring);
+}  // namespace orb_blur_avx2
 
 }  // namespace iraf_vo
