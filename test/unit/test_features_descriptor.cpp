@@ -141,8 +141,9 @@ cv::Mat opencvOrbBlur(const cv::Mat& level) {
 TEST(OrbDescriptor, BlurEqualsOpenCvsSubmatrixBlurOnEveryLevelAndOddSizes) {
   OrbDescriptor describer;
 #if defined(__x86_64__)
-  if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"))
+  if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) {
     EXPECT_TRUE(describer.usesSimdBlur()) << "AVX2 + FMA blur not in use on an AVX2 + FMA CPU";
+  }
 #endif
   std::vector<cv::Mat> levels;
   FeatureExtractor::buildPyramid(texture(752, 480, 11), 1.2, 8, &levels);
