@@ -101,8 +101,10 @@ bool sameImage(const cv::Mat& a, const cv::Mat& b) {
 }  // namespace
 
 TEST(PngGray8, EveryFilterTypeAndSizeGivesOpenCvsPixels) {
-  const std::vector<std::vector<int>> filter_sets = {{0}, {1}, {2}, {3}, {4}, {4, 3, 2, 1, 0}};
-  for (const cv::Size size : {cv::Size(1, 1), cv::Size(2, 3), cv::Size(7, 5), cv::Size(64, 33), cv::Size(753, 21)})
+  // Blocks of 16 rows take the SIMD front (every filter type per lane, widths below / at / above 16 lanes).
+  const std::vector<std::vector<int>> filter_sets = {{0}, {1}, {2}, {3}, {4}, {4, 3, 2, 1, 0}, {4, 4, 1, 4, 3, 4, 2, 0, 4}};
+  for (const cv::Size size : {cv::Size(1, 1), cv::Size(2, 3), cv::Size(7, 5), cv::Size(64, 33), cv::Size(753, 21),
+                              cv::Size(1, 40), cv::Size(15, 17), cv::Size(16, 32), cv::Size(17, 49), cv::Size(301, 64)})
     for (const auto& filters : filter_sets) {
       const cv::Mat img = testImage(size.height, size.width, size.area());
       PngOptions o;
