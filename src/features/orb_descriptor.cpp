@@ -2,6 +2,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -108,12 +109,10 @@ std::vector<cv::Point> boxCandidates(const Probe& probe, int k) {
       if (probe.bit(k, {dx, dy})) set.emplace_back(dx, dy);
   std::vector<cv::Point> out;
   if (set.empty()) return out;
-  for (int y = -kMaxCoord; y <= kMaxCoord; ++y)
-    for (int x = -kMaxCoord; x <= kMaxCoord; ++x) {
-      bool all = true;
-      for (const cv::Point& d : set) all = all && within3(d, {x, y});
-      if (all) out.emplace_back(x, y);
-    }
+  // Inside every box = within 3 of the set's bounding box corners.
+  const cv::Rect box = cv::boundingRect(set);
+  for (int y = std::max(-kMaxCoord, box.br().y - 1 - 3); y <= std::min(kMaxCoord, box.y + 3); ++y)
+    for (int x = std::max(-kMaxCoord, box.br().x - 1 - 3); x <= std::min(kMaxCoord, box.x + 3); ++x) out.emplace_back(x, y);
   return out;
 }
 
