@@ -2,10 +2,10 @@
 // in place. OpenCV blurs a sub-matrix through its float separable filter; where it dispatches to AVX2 that
 // filter forms each row sum as a chain of fused multiply-adds over the 7 taps from 0, and each column sum as
 // k0 * S0 fused-added with k_i * (S_i + S_-i), i = 1..3, rounded to nearest-even and saturated. This file
-// forms the same chains, so the bytes are equal where OpenCV's own dispatch is the AVX2 one; OrbDescriptor
+// forms the same chains, so the bytes are equal where OpenCV's own dispatch is the AVX2 one; OrbDescriber
 // compares the two at start-up and keeps OpenCV's blur if one byte differs. CMake builds this file with
 // -mavx2 -mfma on x86-64 only.
-#include "iraf_vo/features/orb_descriptor.h"
+#include "orb_describer_kernels.h"
 
 #if defined(IRAF_VO_AVX2_KERNELS) && defined(__AVX2__) && defined(__FMA__)
 
@@ -13,7 +13,6 @@
 
 #include <cmath>
 #include <cstdint>
-#include <vector>
 
 namespace iraf_vo {
 namespace orb_blur_avx2 {
@@ -68,19 +67,18 @@ void columnPass(const float* const* r, int cols, const float* k, uint8_t* dst) {
 
 bool built() { return true; }
 
-void blurInPlace(cv::Mat* padded, int pad, int cols, int rows, const float* k, std::vector<float>* ring) {
-  // Ring of 7 row-sum rows: row-sum row t (padded row pad - 3 + t) lives in slot t % 7. Output row y is
-  // written into the padded row it replaces once no later row sum needs its original pixels.
-  ring->resize(static_cast<size_t>(8) * cols + 6);  // 7 slots + the float copy of one padded row
-  auto slot = [&](int t) { return ring->data() + static_cast<size_t>(t % 7) * cols; };
-  float* f = ring->data() + static_cast<size_t>(7) * cols;
-  auto srcRow = [&](int t) { return padded->ptr<uint8_t>(pad - 3 + t) + pad; };
+void blurInPlace(uint8_t* padded, size_t step, int pad, int cols, int rows, const float* k, float* ring) {
+  // Ring of 7 row-sum rows: row-sum row t (padded row pad - 3 + t) lives in slot t % 7; then the float copy of
+  // one padded row. Output row y is written into the padded row it replaces once no later row sum needs it.
+  auto slot = [&](int t) { return ring + static_cast<size_t>(t % 7) * cols; };
+  float* f = ring + static_cast<size_t>(7) * cols;
+  auto srcRow = [&](int t) { return padded + static_cast<size_t>(pad - 3 + t) * step + pad; };
   for (int t = 0; t < 6; ++t) rowPass(srcRow(t), cols, k, f, slot(t));
   for (int y = 0; y < rows; ++y) {
     rowPass(srcRow(y + 6), cols, k, f, slot(y + 6));  // row y + 3 of the level
     const float* r[7];
     for (int i = 0; i < 7; ++i) r[i] = slot(y + i);
-    columnPass(r, cols, k, padded->ptr<uint8_t>(pad + y) + pad);
+    columnPass(r, cols, k, padded + static_cast<size_t>(pad + y) * step + pad);
   }
 }
 
@@ -89,10 +87,12 @@ void blurInPlace(cv::Mat* padded, int pad, int cols, int rows, const float* k, s
 
 #else
 
+#include <cstdlib>
+
 namespace iraf_vo {
 namespace orb_blur_avx2 {
 bool built() { return false; }
-void blurInPlace(cv::Mat*, int, int, int, const float*, std::vector<float>*) {}
+void blurInPlace(uint8_t*, size_t, int, int, int, const float*, float*) { std::abort(); }  // never called: built() is false
 }  // namespace orb_blur_avx2
 }  // namespace iraf_vo
 

@@ -34,7 +34,7 @@ bool isMetadataChunk(const uint8_t* type) {
 // One decompressor and the scratch buffers per thread (no per-frame allocation once warm).
 struct DecoderState {
   libdeflate_decompressor* inflater = libdeflate_alloc_decompressor();
-  std::vector<uint8_t> compressed, filtered, zero_row;
+  std::vector<uint8_t> compressed, filtered, zero_row, block_rows;  // block_rows: the SIMD front's output
   ~DecoderState() {
     if (inflater) libdeflate_free_decompressor(inflater);
   }
@@ -101,9 +101,11 @@ void unfilterPaethRows(const uint8_t* const* f, const uint8_t* above, uint8_t* c
 // above's previous / second-previous result (lane 0: the row above the block). Every filter type per lane
 // (PNG spec 9.2-9.4; the Paeth choice with |p - a| = |b - c|, |p - b| = |a - c|, |p - c| = their sum or
 // difference by sign). Rows go in and out through 16 x 16 byte transposes. Same pixels as unfilterRows'
-// scalar paths. `f` = filtered bytes of row r (after its filter-type byte), rows `stride` apart, readable
-// 15 bytes before row r + 1 and 31 bytes past the last row; `above` readable to w + 16; `out` rows of
-// w + 32 bytes, pixel 0 at out + 16 (scratch the caller copies from).
+// scalar paths. `f` = filtered bytes of row r (after its filter-type byte), rows `stride` apart; row r + k is
+// read from 15 bytes before its start (inside row r + k - 1) to 15 bytes past the block's last row (the
+// buffer has 32 bytes of slack); `above` is read to above[w + 29] (a zero row of w + 32 bytes, or an image row
+// followed by >= 16 more rows of the same contiguous image); `out` rows of w + 48 bytes, pixel 0 at out + 16
+// (scratch the caller copies from).
 inline __m128i absDiffU8(__m128i x, __m128i y) { return _mm_or_si128(_mm_subs_epu8(x, y), _mm_subs_epu8(y, x)); }
 inline __m128i lessEqualU8(__m128i x, __m128i y) { return _mm_cmpeq_epi8(_mm_min_epu8(x, y), x); }
 inline __m128i select(__m128i m, __m128i x, __m128i y) { return _mm_or_si128(_mm_and_si128(m, x), _mm_andnot_si128(m, y)); }
@@ -201,23 +203,25 @@ bool unfilterRowRange(const std::vector<uint8_t>& filtered, const uint8_t* zero_
   return true;
 }
 
-bool unfilterRows(const std::vector<uint8_t>& filtered, const uint8_t* zero_row, cv::Mat* img) {
+bool unfilterRows(const std::vector<uint8_t>& filtered, const uint8_t* zero_row, std::vector<uint8_t>* scratch,
+                  cv::Mat* img) {
   const int w = img->cols, rows = img->rows;
   for (int r = 0; r < rows; ++r)
     if (filtered[static_cast<size_t>(r) * (w + 1)] > 4) return false;  // filter types 0-4 only
   int r = 0;
 #if defined(__SSE2__)
   // Blocks of 16 rows through the SIMD front; the rest (< 16 rows) on the scalar paths.
-  thread_local std::vector<uint8_t> scratch;
   const size_t out_stride = static_cast<size_t>(w) + 48;
-  scratch.resize(16 * out_stride);
+  scratch->resize(16 * out_stride);
   for (; r + 16 <= rows; r += 16) {
     uint8_t types[16];
     for (int k = 0; k < 16; ++k) types[k] = filtered[static_cast<size_t>(r + k) * (w + 1)];
     unfilterBlock16(filtered.data() + static_cast<size_t>(r) * (w + 1) + 1, w + 1, types,
-                    r > 0 ? img->ptr<uint8_t>(r - 1) : zero_row, w, scratch.data(), out_stride);
-    for (int k = 0; k < 16; ++k) std::memcpy(img->ptr<uint8_t>(r + k), scratch.data() + k * out_stride + 16, w);
+                    r > 0 ? img->ptr<uint8_t>(r - 1) : zero_row, w, scratch->data(), out_stride);
+    for (int k = 0; k < 16; ++k) std::memcpy(img->ptr<uint8_t>(r + k), scratch->data() + k * out_stride + 16, w);
   }
+#else
+  (void)scratch;
 #endif
   return unfilterRowRange(filtered, zero_row, img, r, rows);
 }
@@ -270,7 +274,7 @@ bool decodeGray8Png(const uint8_t* data, size_t size, cv::Mat* out) {
     return false;  // damaged, too short or too long: OpenCV reports or tolerates it as it does today
   if (st.zero_row.size() < static_cast<size_t>(width) + 32) st.zero_row.assign(static_cast<size_t>(width) + 32, 0);
   cv::Mat img(height, width, CV_8UC1);
-  if (!unfilterRows(st.filtered, st.zero_row.data(), &img)) return false;
+  if (!unfilterRows(st.filtered, st.zero_row.data(), &st.block_rows, &img)) return false;
   *out = img;
   return true;
 }

@@ -15,7 +15,7 @@
 #include "iraf_vo/features/feature_culling.h"
 #include "iraf_vo/features/feature_frame.h"
 #include "iraf_vo/features/feature_params.h"
-#include "iraf_vo/features/orb_descriptor.h"
+#include "iraf_vo/features/orb_describer.h"
 
 namespace iraf_vo {
 
@@ -75,7 +75,7 @@ class FeatureExtractor {
   std::vector<cv::KeyPoint> all_kps_;                 // the same, concatenated, level-0 coordinates
   std::vector<cv::KeyPoint> candidates_, level_batch_;
   std::vector<size_t> batch_index_;
-  OrbDescriptor describer_;  // rotated BRIEF, one level at a time (= cv::ORB's bytes)
+  OrbDescriber describer_;  // rotated BRIEF, one level at a time (= cv::ORB's bytes)
 };
 
 }  // namespace iraf_vo

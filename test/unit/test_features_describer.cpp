@@ -1,4 +1,4 @@
-// OrbDescriptor: ORB's pattern read from cv::ORB, and descriptors equal to cv::ORB::compute byte for byte
+// OrbDescriber: ORB's pattern read from cv::ORB, and descriptors equal to cv::ORB::compute byte for byte
 // (scalar and AVX2 kernels), on synthetic textures and, when present, the shared EuRoC frames.
 #include <gtest/gtest.h>
 
@@ -14,12 +14,12 @@
 
 #include "iraf_vo/features/cell_grid.h"
 #include "iraf_vo/features/feature_extractor.h"
-#include "iraf_vo/features/orb_descriptor.h"
+#include "iraf_vo/features/orb_describer.h"
 
 namespace iraf_vo {
 namespace {
 
-cv::Ptr<cv::ORB> referenceOrb() { return cv::ORB::create(500, 1.2f, 1, kEdgeThreshold, 0, 2, cv::ORB::FAST_SCORE, 31, 20); }
+cv::Ptr<cv::ORB> referenceOrb() { return makeReferenceOrb(); }
 
 // A textured test image: blurred noise plus a few rectangles and discs (corners and smooth edges).
 cv::Mat texture(int cols, int rows, uint64_t seed) {
@@ -64,7 +64,7 @@ int differingRows(const cv::Mat& img, const std::vector<cv::KeyPoint>& kps, cons
   return differ;
 }
 
-TEST(OrbDescriptor, PatternReadFromOpenCvIsTwoHundredFiftySixDistinctPairsInsideThePatch) {
+TEST(OrbDescriber, PatternReadFromOpenCvIsTwoHundredFiftySixDistinctPairsInsideThePatch) {
   const OrbPattern& p = orbPatternFromOpenCv();
   ASSERT_TRUE(p.valid()) << "the probe could not read ORB's pattern from cv::ORB";
   std::set<std::pair<std::pair<int, int>, std::pair<int, int>>> pairs;
@@ -81,16 +81,16 @@ TEST(OrbDescriptor, PatternReadFromOpenCvIsTwoHundredFiftySixDistinctPairsInside
   EXPECT_EQ(pairs.size(), 256u);
 }
 
-TEST(OrbDescriptor, ReadingThePatternFailsCleanlyWhenTheDescriptorIsNotOrb31) {
+TEST(OrbDescriber, ReadingThePatternFailsCleanlyWhenTheDescriptorIsNotOrb31) {
   // With WTA_K 3 a descriptor bit is no comparison of one point pair: no pair explains the probe's bits,
-  // so the reader reports failure (and OrbDescriptor would fall back to cv::ORB).
+  // so the reader reports failure (and OrbDescriber would fall back to cv::ORB).
   OrbPattern p;
   EXPECT_FALSE(readOrbPattern(cv::ORB::create(500, 1.2f, 1, kEdgeThreshold, 0, 3, cv::ORB::FAST_SCORE, 31, 20), &p));
   EXPECT_FALSE(p.valid());
 }
 
-TEST(OrbDescriptor, EqualsOpenCvOnSyntheticTexturesAtAllAnglesWithBothKernels) {
-  OrbDescriptor scalar(false), simd(true);
+TEST(OrbDescriber, EqualsOpenCvOnSyntheticTexturesAtAllAnglesWithBothKernels) {
+  OrbDescriber scalar(false), simd(true);
   ASSERT_FALSE(scalar.usesOpenCvFallback()) << "scalar kernel differed from cv::ORB at start-up";
   EXPECT_FALSE(scalar.usesSimd());
 #if defined(__x86_64__)
@@ -111,7 +111,7 @@ TEST(OrbDescriptor, EqualsOpenCvOnSyntheticTexturesAtAllAnglesWithBothKernels) {
   }
 }
 
-TEST(OrbDescriptor, EqualsOpenCvOnTheSharedEurocFramesAtEveryPyramidLevel) {
+TEST(OrbDescriber, EqualsOpenCvOnTheSharedEurocFramesAtEveryPyramidLevel) {
   const std::string file =
       std::string(IRAF_VO_SHARED_DIR) + "/data/euroc_mh01_600/mav0/cam0/data/1403636584763555584.png";
   if (!std::ifstream(file).good()) GTEST_SKIP() << "shared EuRoC frame not found: " << file;
@@ -119,7 +119,8 @@ TEST(OrbDescriptor, EqualsOpenCvOnTheSharedEurocFramesAtEveryPyramidLevel) {
   ASSERT_FALSE(img.empty()) << file;
   std::vector<cv::Mat> pyramid;
   FeatureExtractor::buildPyramid(img, 1.2, 8, &pyramid);
-  OrbDescriptor describer;
+  OrbDescriber describer;
+  ASSERT_FALSE(describer.usesOpenCvFallback()) << "would compare cv::ORB with itself";
   for (size_t l = 0; l < pyramid.size(); ++l) {
     const std::vector<cv::KeyPoint> kps = keypointsOf(pyramid[l], 600, l);
     if (kps.empty()) continue;
@@ -138,8 +139,8 @@ cv::Mat opencvOrbBlur(const cv::Mat& level) {
   return inner.clone();
 }
 
-TEST(OrbDescriptor, BlurEqualsOpenCvsSubmatrixBlurOnEveryLevelAndOddSizes) {
-  OrbDescriptor describer;
+TEST(OrbDescriber, BlurEqualsOpenCvsSubmatrixBlurOnEveryLevelAndOddSizes) {
+  OrbDescriber describer;
 #if defined(__x86_64__)
   if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) {
     EXPECT_TRUE(describer.usesSimdBlur()) << "AVX2 + FMA blur not in use on an AVX2 + FMA CPU";
@@ -156,9 +157,45 @@ TEST(OrbDescriptor, BlurEqualsOpenCvsSubmatrixBlurOnEveryLevelAndOddSizes) {
   }
 }
 
-TEST(OrbDescriptor, RejectsAKeypointCloserThanTheEdgeThresholdNamingIt) {
+TEST(OrbDescriber, TheStartUpCheckRejectsAWrongPattern) {
+  const OrbPattern& read = orbPatternFromOpenCv();
+  ASSERT_TRUE(read.valid());
+  EXPECT_TRUE(orbKernelMatchesOpenCv(false, read));
+  for (int k : {0, 100, 255}) {  // one pair swapped (one bit inverted), or one point moved by a pixel
+    OrbPattern swapped = read;
+    std::swap(swapped.x0[k], swapped.x1[k]);
+    std::swap(swapped.y0[k], swapped.y1[k]);
+    EXPECT_FALSE(orbKernelMatchesOpenCv(false, swapped)) << "pair " << k << " swapped";
+    OrbPattern moved = read;
+    moved.x1[k] += 1.f;
+    EXPECT_FALSE(orbKernelMatchesOpenCv(false, moved)) << "pair " << k << " moved";
+    if (orbKernelMatchesOpenCv(true, read)) {
+      EXPECT_FALSE(orbKernelMatchesOpenCv(true, swapped)) << "AVX2, pair " << k << " swapped";
+    }
+  }
+}
+
+TEST(OrbDescriber, AcceptsKeypointsExactlyAtTheEdgeThreshold) {
+  const cv::Mat img = texture(200, 150, 8);
+  OrbDescriber describer;
+  const float lo = kEdgeThreshold, hi_x = 200 - kEdgeThreshold - 1, hi_y = 150 - kEdgeThreshold - 1;
+  // 19 and cols - 20 are the first and last accepted positions; 19.5 rounds to 20 (accepted).
+  const std::vector<cv::KeyPoint> kps = {cv::KeyPoint(lo, lo, 31.f, 30.f), cv::KeyPoint(hi_x, hi_y, 31.f, 200.f),
+                                         cv::KeyPoint(lo, hi_y, 31.f, 95.f), cv::KeyPoint(hi_x, lo, 31.f, 310.f),
+                                         cv::KeyPoint(lo + 0.5f, lo + 0.5f, 31.f, 1.f)};
+  cv::Mat d;
+  describer.compute(img, kps, &d);
+  EXPECT_EQ(d.rows, 5);
+  EXPECT_EQ(differingRows(img, kps, d), 0);
+  for (const cv::Point2f& bad : {cv::Point2f(hi_x + 1, 75), cv::Point2f(100, hi_y + 1), cv::Point2f(lo - 0.5f, 75)}) {
+    const std::vector<cv::KeyPoint> one = {cv::KeyPoint(bad, 31.f, 0.f)};  // 18.5 rounds to 18 (rejected)
+    EXPECT_THROW(describer.compute(img, one, &d), std::invalid_argument) << bad;
+  }
+}
+
+TEST(OrbDescriber, RejectsAKeypointCloserThanTheEdgeThresholdNamingIt) {
   const cv::Mat img = texture(200, 150, 7);
-  OrbDescriptor describer;
+  OrbDescriber describer;
   cv::Mat d;
   std::vector<cv::KeyPoint> kps = {cv::KeyPoint(100.f, 75.f, 31.f, 10.f), cv::KeyPoint(kEdgeThreshold - 1.f, 75.f, 31.f, 0.f)};
   try {

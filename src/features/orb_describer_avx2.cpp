@@ -1,13 +1,13 @@
 // The ORB sampling loop in AVX2: 8 pattern pairs per step, offsets rotated in float exactly as the scalar
 // loop (no FMA, no contraction: x = px a - py b must round like cv::ORB's), rounded to nearest-even like
 // cvRound, and the 8 pixels of each side fetched by one gather. CMake builds this file with -mavx2 on
-// x86-64 only; OrbDescriptor uses it where the CPU has AVX2 and it matched cv::ORB at start-up.
-#include "iraf_vo/features/orb_descriptor.h"
+// x86-64 only; OrbDescriber uses it where the CPU has AVX2 and it matched cv::ORB at start-up.
+#include "orb_describer_kernels.h"
 
 #if defined(IRAF_VO_AVX2_KERNELS) && defined(__AVX2__)
 
 #if defined(__FMA__)
-#error "orb_descriptor_avx2.cpp must be built without FMA (the rotated offsets must round like cv::ORB's)"
+#error "orb_describer_avx2.cpp must be built without FMA (the rotated offsets must round like cv::ORB's)"
 #endif
 
 #include <immintrin.h>
@@ -15,10 +15,8 @@
 #include <cstdint>
 #include <cstring>
 
-#include "orb_descriptor_kernel.h"
-
 namespace iraf_vo {
-namespace orb_descriptor_avx2 {
+namespace orb_describer_avx2 {
 namespace {
 
 // Byte offsets (iy * step + ix) of 8 rotated pattern points.
@@ -50,17 +48,17 @@ void describe(const uint8_t* center, int step, float angle_deg, const OrbPattern
 
 }  // namespace
 
-OrbDescriptor::Kernel kernel() { return describe; }
+OrbDescriber::Kernel kernel() { return describe; }
 
-}  // namespace orb_descriptor_avx2
+}  // namespace orb_describer_avx2
 }  // namespace iraf_vo
 
 #else
 
 namespace iraf_vo {
-namespace orb_descriptor_avx2 {
-OrbDescriptor::Kernel kernel() { return nullptr; }
-}  // namespace orb_descriptor_avx2
+namespace orb_describer_avx2 {
+OrbDescriber::Kernel kernel() { return nullptr; }
+}  // namespace orb_describer_avx2
 }  // namespace iraf_vo
 
 #endif
