@@ -20,9 +20,19 @@ namespace {
 constexpr int kMaxReach = 21 + 3;
 static_assert(kMaxReach + 3 <= kOrbPad + kEdgeThreshold, "samples and blur reads stay inside the padded buffer");
 
-cv::Mat padLevel(const cv::Mat& level, cv::Mat* padded) {
-  cv::copyMakeBorder(level, *padded, kOrbPad, kOrbPad, kOrbPad, kOrbPad, cv::BORDER_REFLECT_101);
-  return (*padded)(cv::Rect(kOrbPad, kOrbPad, level.cols, level.rows));
+// `level` with its kOrbPad reflect-101 border, written into the top-left corner of *buffer (grown only when a
+// level does not fit, so the pyramid's levels reuse level 0's buffer). Returns that padded view.
+cv::Mat padLevel(const cv::Mat& level, cv::Mat* buffer) {
+  const cv::Size whole(level.cols + 2 * kOrbPad, level.rows + 2 * kOrbPad);
+  if (buffer->type() != CV_8UC1 || buffer->cols < whole.width || buffer->rows < whole.height)
+    buffer->create(std::max(buffer->rows, whole.height), std::max(buffer->cols, whole.width), CV_8UC1);
+  cv::Mat padded = (*buffer)(cv::Rect(cv::Point(0, 0), whole));
+  cv::copyMakeBorder(level, padded, kOrbPad, kOrbPad, kOrbPad, kOrbPad, cv::BORDER_REFLECT_101);  // in place: same size
+  return padded;
+}
+
+cv::Mat innerOf(const cv::Mat& padded) {
+  return padded(cv::Rect(kOrbPad, kOrbPad, padded.cols - 2 * kOrbPad, padded.rows - 2 * kOrbPad));
 }
 
 // The 7 float taps OpenCV's GaussianBlur(7x7, sigma 2) filters a sub-matrix with.
@@ -32,11 +42,11 @@ const float* blurTaps() {
 }
 
 // The same blur by orb_blur_avx2 (bytes equal to blurSubmatrixOpenCv's where it passed the start-up check).
-cv::Mat blurSubmatrixSimd(const cv::Mat& level, cv::Mat* padded, std::vector<float>* ring) {
-  const cv::Mat inner = padLevel(level, padded);
+cv::Mat blurSubmatrixSimd(const cv::Mat& level, cv::Mat* buffer, std::vector<float>* ring) {
+  const cv::Mat padded = padLevel(level, buffer);
   ring->resize(static_cast<size_t>(8) * level.cols + 6);
-  orb_blur_avx2::blurInPlace(padded->data, padded->step, kOrbPad, level.cols, level.rows, blurTaps(), ring->data());
-  return inner;
+  orb_blur_avx2::blurInPlace(padded.data, padded.step, kOrbPad, level.cols, level.rows, blurTaps(), ring->data());
+  return innerOf(padded);
 }
 
 bool cpuHasAvx2(bool and_fma) {
@@ -86,8 +96,8 @@ OrbDescriber::Kernel simdKernel() { return cpuHasAvx2(false) ? orb_describer_avx
 
 }  // namespace
 
-cv::Mat blurSubmatrixOpenCv(const cv::Mat& level, cv::Mat* padded) {
-  cv::Mat inner = padLevel(level, padded);
+cv::Mat blurSubmatrixOpenCv(const cv::Mat& level, cv::Mat* buffer) {
+  cv::Mat inner = innerOf(padLevel(level, buffer));
   cv::GaussianBlur(inner, inner, cv::Size(7, 7), 2, 2, cv::BORDER_REFLECT_101);
   return inner;
 }

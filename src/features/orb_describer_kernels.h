@@ -14,9 +14,10 @@ constexpr int kOrbPatchSize = 31;
 // cv::ORB's border around a level: max(edge threshold 19, rotated half patch ceil(15 sqrt 2) = 22, 4) + 1.
 constexpr int kOrbPad = 23;
 
-/// The blur cv::ORB applies before sampling: `level` inside a kOrbPad reflect-101 border (*padded), blurred
-/// in place as a sub-matrix by cv::GaussianBlur (7x7, sigma 2). Returns the blurred level (a view of *padded).
-cv::Mat blurSubmatrixOpenCv(const cv::Mat& level, cv::Mat* padded);
+/// The blur cv::ORB applies before sampling: `level` inside a kOrbPad reflect-101 border (written into the
+/// reused *buffer), blurred in place as a sub-matrix by cv::GaussianBlur (7x7, sigma 2). Returns the blurred
+/// level (a view of *buffer).
+cv::Mat blurSubmatrixOpenCv(const cv::Mat& level, cv::Mat* buffer);
 
 // cv::ORB's rotation of the pattern: the angle converted to radians in float, cos / sin of that float (OpenCV
 // 4.6 calls sincosf; the double functions rounded to float differ by one ulp at ~2.6 % of angles). Every

@@ -15,7 +15,7 @@ cv::Ptr<cv::ORB> makeReferenceOrb() {
 
 namespace {
 
-// A dot image (one pixel of value `dot` on background `bg`) blurs into a 7x7 bump. cv::ORB describes it
+// A dot image (one pixel of 255 on 0, or of 0 on 255) blurs into a 7x7 bump. cv::ORB describes it
 // from keypoints at angle 0 placed at every offset d in [-kProbe, kProbe]^2 from the dot. Bit k from the
 // keypoint at offset d compares the blurred image at dot + p0[k] - d and dot + p1[k] - d, so with a bright
 // dot it is set only for d near p1[k] (where the bump is higher at p1 - d than at p0 - d) and with a dark

@@ -69,7 +69,7 @@ class OrbDescriber {
   cv::Ptr<cv::ORB> orb_;  // the fallback
   Kernel kernel_ = nullptr;
   bool simd_ = false, simd_blur_ = false;
-  cv::Mat padded_;
+  cv::Mat padded_;  // padded level, sized for the largest level seen (level 0): no allocation per level
   std::vector<float> blur_rows_;
   std::vector<cv::KeyPoint> fallback_kps_;
 };
