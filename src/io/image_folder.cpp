@@ -5,11 +5,11 @@
 #include <charconv>
 #include <filesystem>
 #include <fstream>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sys/stat.h>
 
 #include "iraf_vo/camera/camera_loader.h"
+#include "iraf_vo/io/image_codecs.h"
 #include "iraf_vo/io/png_gray8.h"
 
 namespace iraf_vo {
@@ -293,7 +293,7 @@ bool AslImageWriter::write(int64_t stamp_ns, const cv::Mat& image, std::string* 
   const std::string path = cam_dir_ + "/data/" + name;
   bool ok = false;
   try {
-    ok = cv::imwrite(path, image);
+    ok = codecs::imwrite(path, image);
   } catch (const cv::Exception& e) {
     ok = false;
   }

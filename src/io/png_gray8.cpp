@@ -10,7 +10,9 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
-#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgcodecs.hpp>  // IMREAD_* flags (the codecs themselves: image_codecs.h)
+
+#include "iraf_vo/io/image_codecs.h"
 
 namespace iraf_vo {
 
@@ -284,8 +286,7 @@ cv::Mat decodeImage(const uint8_t* data, size_t size, std::string* error) {
   if (decodeGray8Png(data, size, &img)) return img;
   if (!data || size == 0 || size > static_cast<size_t>(INT_MAX)) return cv::Mat();
   try {
-    const cv::Mat buf(1, static_cast<int>(size), CV_8UC1, const_cast<uint8_t*>(data));
-    img = cv::imdecode(buf, cv::IMREAD_UNCHANGED);
+    img = codecs::imdecode(data, size, cv::IMREAD_UNCHANGED);
   } catch (const cv::Exception& e) {
     if (error) *error = e.what();
     return cv::Mat();

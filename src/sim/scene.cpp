@@ -5,8 +5,10 @@
 #include <stdexcept>
 #include <sys/stat.h>
 
-#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgcodecs.hpp>  // IMREAD_* flags
 #include <opencv2/imgproc.hpp>
+
+#include "iraf_vo/io/image_codecs.h"
 
 namespace iraf_vo {
 
@@ -127,7 +129,7 @@ namespace {
 
 /// Pastes a grayscale photo (scaled to `width_m` meters) into `tex` with its top-left at (u, v) meters.
 bool pastePoster(const std::string& path, double u_m, double v_m, double width_m, double tpm, cv::Mat* tex) {
-  cv::Mat photo = cv::imread(path, cv::IMREAD_GRAYSCALE);
+  cv::Mat photo = codecs::imread(path, cv::IMREAD_GRAYSCALE);
   if (photo.empty()) return false;
   const int w = static_cast<int>(width_m * tpm);
   const int h = static_cast<int>(w * static_cast<double>(photo.rows) / photo.cols);

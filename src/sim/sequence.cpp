@@ -7,10 +7,11 @@
 #include <iostream>
 #include <sstream>
 
-#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgcodecs.hpp>  // IMREAD_* flags
 #include <opencv2/imgproc.hpp>
 
 #include "iraf_vo/camera/camera_loader.h"
+#include "iraf_vo/io/image_codecs.h"
 
 namespace iraf_vo {
 
@@ -181,7 +182,7 @@ bool simulateSequence(const Renderer& renderer, const TrajectoryParams& traj, co
     if (!out_dir.empty()) {
       t0 = std::chrono::steady_clock::now();
       const std::string name = std::to_string(f.stamp_ns) + ".png";
-      if (!cv::imwrite(cam_dir + "/data/" + name, f.image)) {
+      if (!codecs::imwrite(cam_dir + "/data/" + name, f.image)) {
         setError(error, cam_dir + "/data/" + name + ": cannot write PNG");
         return false;
       }
@@ -189,7 +190,7 @@ bool simulateSequence(const Renderer& renderer, const TrajectoryParams& traj, co
       if (write_depth) {
         cv::Mat mm;
         f.depth.convertTo(mm, CV_16U, 1000.0);  // saturates at 65.535 m
-        if (!cv::imwrite(depth_dir + "/data/" + name, mm)) {
+        if (!codecs::imwrite(depth_dir + "/data/" + name, mm)) {
           setError(error, depth_dir + "/data/" + name + ": cannot write PNG");
           return false;
         }
@@ -291,7 +292,7 @@ bool degradeAslSequence(const std::string& in_dir, const std::string& out_dir, c
   csv << "#timestamp [ns],filename\n";
   for (size_t i = 0; i < rows.size(); ++i) {
     const std::string src = in_cam + "/data/" + rows[i].second;
-    cv::Mat img = cv::imread(src, cv::IMREAD_UNCHANGED);
+    cv::Mat img = codecs::imread(src, cv::IMREAD_UNCHANGED);
     if (!img.empty() && img.channels() == 3) cv::cvtColor(img, img, cv::COLOR_BGR2GRAY);
     if (!img.empty() && img.depth() == CV_16U) img.convertTo(img, CV_8U, 1.0 / 256.0);
     if (img.empty() || img.type() != CV_8UC1) {
@@ -302,7 +303,7 @@ bool degradeAslSequence(const std::string& in_dir, const std::string& out_dir, c
     cv::Mat out;
     applyPhotometric(img, static_cast<int>(i), photometric, &out);
     const std::string dst = out_cam + "/data/" + rows[i].second;
-    if (!cv::imwrite(dst, out)) {
+    if (!codecs::imwrite(dst, out)) {
       std::cerr << "degrade: " << dst << ": cannot write, skipped\n";
       ++rep.skipped;
       continue;

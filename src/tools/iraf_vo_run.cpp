@@ -9,7 +9,7 @@
 #include <iraf_vo/common/wall_clock.h>
 #include <iraf_vo/pipeline/pipeline_params.h>
 #include <iraf_vo/pipeline/run_report.h>
-#include <iraf_vo/ros/bag_reader.h>
+#include <iraf_vo/pipeline/bag_frame_source.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -121,28 +121,6 @@ int makeParams(const Args& a, iraf_vo::PipelineParams* p) {
   return -1;
 }
 
-/// The images of one topic of a rosbag, in bag order.
-class BagFrameSource : public iraf_vo::FrameSource {
- public:
-  BagFrameSource(iraf_vo::BagImageReader* bag, std::string name) : bag_(bag), name_(std::move(name)) {}
-  size_t size() const override { return bag_->size(); }
-  bool read(long index, iraf_vo::SourceImage* out) override {
-    ros::Time t;
-    for (; next_ < index; ++next_)
-      if (!bag_->next(&t, &out->gray)) return false;
-    if (!bag_->next(&t, &out->gray)) return false;
-    ++next_;
-    out->stamp = t.toSec();
-    return true;
-  }
-  std::string describe(long) const override { return name_; }
-
- private:
-  iraf_vo::BagImageReader* bag_;
-  std::string name_;
-  long next_ = 0;
-};
-
 double processCpuSeconds() {
   struct rusage ru;
   getrusage(RUSAGE_SELF, &ru);
@@ -162,7 +140,6 @@ int main(int argc, char** argv) {
   if (stat(a.dataset.c_str(), &ds) != 0)
     return std::fprintf(stderr, "iraf_vo_run: --dataset %s: no such file or folder\n", a.dataset.c_str()), 1;
   iraf_vo::AslImageReader asl;
-  iraf_vo::BagImageReader bag;
   std::unique_ptr<iraf_vo::FrameSource> source;
   std::string err;
   if (S_ISDIR(ds.st_mode)) {
@@ -176,10 +153,10 @@ int main(int argc, char** argv) {
       return std::fprintf(stderr, "iraf_vo_run: --dataset %s is not a folder: a bag needs --topic\n",
                           a.dataset.c_str()),
              2;
-    if (!bag.open(a.dataset, a.topic, &err))
+    // The bag reader (libiraf_vo_ros.so) is loaded only here: runs on ASL folders never load the ROS libraries.
+    if (!(source = iraf_vo::openBagFrameSource(a.dataset, a.topic, &err)))
       return std::fprintf(stderr, "iraf_vo_run: --dataset %s: %s\n", a.dataset.c_str(), err.c_str()), 1;
-    source = std::make_unique<BagFrameSource>(&bag, a.dataset + " (topic " + a.topic + ")");
-    if (!bag.notice().empty()) std::fprintf(stderr, "iraf_vo_run: %s\n", bag.notice().c_str());
+    if (!source->notice().empty()) std::fprintf(stderr, "iraf_vo_run: %s\n", source->notice().c_str());
   }
   if (a.camera_path.empty()) return std::fprintf(stderr, "iraf_vo_run: no camera: pass --camera sensor.yaml\n"), 2;
   const iraf_vo::CameraModelPtr cam = iraf_vo::loadCamera(a.camera_path, &err);
@@ -236,7 +213,7 @@ int main(int argc, char** argv) {
   tracker.waitForMapping();
   recorder.updateKeyframes(tracker.keyframePoses());
   if (fatal) return 1;
-  const std::string skipped = S_ISDIR(ds.st_mode) ? asl.skippedSummary() : bag.skippedSummary();
+  const std::string skipped = source->skippedSummary();
   if (!skipped.empty()) std::fprintf(stderr, "iraf_vo_run: %s\n", skipped.c_str());
   if (totals.processed > 0 && totals.read_errors == totals.processed)
     return std::fprintf(stderr, "iraf_vo_run: --dataset %s: none of the %ld frames could be read\n", a.dataset.c_str(),

@@ -10,6 +10,8 @@
 #include <sys/stat.h>
 
 #include "iraf_vo/camera/camera_loader.h"
+#include "iraf_vo/common/shared_library.h"
+#include "iraf_vo/io/image_codecs.h"
 #include "iraf_vo/io/image_folder.h"
 #include "iraf_vo/io/trajectory.h"
 
@@ -288,4 +290,26 @@ TEST(Trajectory, EurocCsvAppliesTBS) {
   EXPECT_NEAR(t.poses[0].translation().x(), 1.0, 1e-9);
   EXPECT_NEAR(t.poses[0].translation().y(), 2.5, 1e-9);
   EXPECT_NEAR(t.poses[1].translation().x(), 1.5, 1e-9);
+}
+
+// Optional libraries are loaded from beside libiraf_vo_core.so (common/shared_library.h); a missing library or
+// symbol gives nullptr and a message naming it, and the codecs read and write through the loaded plugin.
+TEST(SharedLibrary, LoadsSiblingsAndNamesWhatIsMissing) {
+  std::string err;
+  EXPECT_EQ(iraf_vo::openSiblingLibrary("libiraf_vo_no_such_plugin.so", &err), nullptr);
+  EXPECT_NE(err.find("libiraf_vo_no_such_plugin.so"), std::string::npos) << err;
+  err.clear();
+  void* h = iraf_vo::openSiblingLibrary("libiraf_vo_codecs.so", &err);
+  ASSERT_NE(h, nullptr) << err;
+  EXPECT_NE(iraf_vo::findLibrarySymbol(h, "iraf_vo_image_codecs_api_v1", "libiraf_vo_codecs.so", &err), nullptr);
+  EXPECT_EQ(iraf_vo::findLibrarySymbol(h, "iraf_vo_no_such_symbol", "libiraf_vo_codecs.so", &err), nullptr);
+  EXPECT_NE(err.find("iraf_vo_no_such_symbol"), std::string::npos) << err;
+  const std::string path = tmpDir("codecs") + "/c.png";
+  cv::Mat img(7, 9, CV_16UC1);
+  cv::randu(img, cv::Scalar(0), cv::Scalar(65536));
+  ASSERT_TRUE(iraf_vo::codecs::imwrite(path, img));
+  const cv::Mat back = iraf_vo::codecs::imread(path, cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(back.type(), CV_16UC1);
+  EXPECT_EQ(cv::norm(back, img, cv::NORM_INF), 0.0);
+  EXPECT_TRUE(iraf_vo::codecs::imread(path + ".missing", cv::IMREAD_UNCHANGED).empty());
 }

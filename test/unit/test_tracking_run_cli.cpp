@@ -13,6 +13,11 @@
 #include <sstream>
 #include <string>
 
+#include <opencv2/core.hpp>
+
+#include "iraf_vo/camera/camera_loader.h"
+#include "iraf_vo/io/image_folder.h"
+
 namespace {
 
 const std::string kBin = std::string(IRAF_VO_BIN_DIR) + "/iraf_vo_run";
@@ -124,4 +129,50 @@ TEST(TrackingRunCli, HeAndClaheModes) {
   std::remove((dir + "/stats.json").c_str());
   std::remove((dir + "/f.csv").c_str());
   rmdir(dir.c_str());
+}
+
+// iraf_vo_run loads OpenCV's imgcodecs (through libiraf_vo_codecs.so, ~140 libraries with GDAL) and the ROS
+// libraries (bag reader) only when a run needs them: on an ASL folder of 8-bit gray PNGs it loads neither (the
+// dynamic loader's LD_DEBUG=files log lists every object it loads); a folder of 16-bit PNGs loads the codecs and
+// is read like before.
+TEST(TrackingRunCli, LoadsCodecsAndRosOnlyWhenNeeded) {
+  if (!exists(kBin)) GTEST_SKIP() << kBin << " not built";
+  const auto cam = iraf_vo::makeCamera("pinhole-radtan", 160, 120, {150, 150, 80, 60, 0, 0, 0, 0}, nullptr);
+  ASSERT_TRUE(cam);
+  cv::theRNG().state = 11;
+  auto writeFolder = [&](const std::string& dir, int depth) {
+    iraf_vo::AslImageWriter w;
+    std::string err;
+    ASSERT_TRUE(w.open(dir, &err, cam.get())) << err;
+    for (int k = 0; k < 3; ++k) {
+      cv::Mat img(120, 160, depth);
+      cv::randu(img, cv::Scalar(0), cv::Scalar(depth == CV_8U ? 256 : 65536));
+      ASSERT_TRUE(w.write(1000000000LL + k * 50000000LL, img, &err)) << err;
+    }
+  };
+  const std::string dir = tmpDir();
+  writeFolder(dir + "/gray8", CV_8U);
+  writeFolder(dir + "/gray16", CV_16U);
+  auto loaderLog = [&](const std::string& data, std::string* out) {
+    const std::string cmd = "LD_DEBUG=files " + kBin + " --dataset " + data + " --out " + data + "/t.txt --quiet 2>&1";
+    FILE* p = popen(cmd.c_str(), "r");
+    ASSERT_TRUE(p);
+    char buf[512];
+    out->clear();
+    while (fgets(buf, sizeof(buf), p)) *out += buf;
+    const int st = pclose(p);
+    EXPECT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) == 0) << *out;
+  };
+  std::string out;
+  loaderLog(dir + "/gray8", &out);
+  EXPECT_NE(out.find("frames 3"), std::string::npos) << out;
+  EXPECT_NE(out.find("libiraf_vo_core.so"), std::string::npos) << "no loader log: " << out;  // LD_DEBUG worked
+  EXPECT_EQ(out.find("libopencv_imgcodecs"), std::string::npos) << "8-bit PNG run loaded imgcodecs";
+  EXPECT_EQ(out.find("libiraf_vo_codecs"), std::string::npos);
+  EXPECT_EQ(out.find("libroscpp"), std::string::npos) << "ASL run loaded the ROS libraries";
+  EXPECT_EQ(out.find("libiraf_vo_ros"), std::string::npos);
+  loaderLog(dir + "/gray16", &out);
+  EXPECT_NE(out.find("frames 3"), std::string::npos) << out;
+  EXPECT_NE(out.find("libiraf_vo_codecs.so"), std::string::npos) << "16-bit PNG run did not load the codecs";
+  EXPECT_EQ(out.find("skipped"), std::string::npos) << "16-bit PNGs not read: " << out;
 }

@@ -30,6 +30,10 @@ class FrameSource {
   virtual bool read(long index, SourceImage* out) = 0;
   /// Names frame `index` in messages (its file, or the bag and topic).
   virtual std::string describe(long index) const = 0;
+  /// What the user must know before the run ("" if nothing), e.g. a truncated bag read up to its intact part.
+  virtual std::string notice() const { return ""; }
+  /// "" when no image was skipped so far, else how many and the first reason.
+  virtual std::string skippedSummary() const { return ""; }
 };
 
 /// The images of an ASL folder (DIR/mav0/cam0).
@@ -39,6 +43,7 @@ class AslFrameSource : public FrameSource {
   size_t size() const override { return reader_->size(); }
   bool read(long index, SourceImage* out) override;
   std::string describe(long index) const override;
+  std::string skippedSummary() const override { return reader_->skippedSummary(); }
 
  private:
   const AslImageReader* reader_;
