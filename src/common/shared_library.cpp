@@ -6,9 +6,13 @@ namespace iraf_vo {
 
 namespace {
 
+// An address inside libiraf_vo_core.so itself (a file-local object: an exported function's address taken in a
+// non-PIE executable could resolve to the executable's PLT entry).
+const char kAnchor = 0;
+
 std::string thisLibraryFolder() {
   Dl_info info;
-  if (dladdr(reinterpret_cast<void*>(&openSiblingLibrary), &info) == 0 || !info.dli_fname) return "";
+  if (dladdr(static_cast<const void*>(&kAnchor), &info) == 0 || !info.dli_fname) return "";
   const std::string path = info.dli_fname;
   const size_t slash = path.rfind('/');
   return slash == std::string::npos ? "" : path.substr(0, slash + 1);
@@ -17,19 +21,15 @@ std::string thisLibraryFolder() {
 }  // namespace
 
 void* openSiblingLibrary(const std::string& file_name, std::string* error) {
+  // Beside the core when its folder is known (devel and install space keep the libraries together); the loader's
+  // search path only when it is not.
   const std::string folder = thisLibraryFolder();
-  std::string why;
-  if (!folder.empty()) {
-    if (void* h = dlopen((folder + file_name).c_str(), RTLD_NOW | RTLD_LOCAL)) return h;
-    const char* e = dlerror();
-    why = e ? e : (folder + file_name + ": dlopen failed");
-  }
-  if (void* h = dlopen(file_name.c_str(), RTLD_NOW | RTLD_LOCAL)) return h;
+  const std::string path = folder.empty() ? file_name : folder + file_name;
+  if (void* h = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL)) return h;
   const char* e = dlerror();
   if (error)
-    *error = "cannot load " + file_name + " (looked beside libiraf_vo_core.so" +
-             (folder.empty() ? std::string() : " in " + folder) + " and on the loader's path): " +
-             (why.empty() ? std::string(e ? e : "dlopen failed") : why);
+    *error = "cannot load " + file_name + (folder.empty() ? std::string(" (on the loader's path)") : " from " + folder) +
+             ": " + (e ? e : "dlopen failed");
   return nullptr;
 }
 

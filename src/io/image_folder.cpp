@@ -292,13 +292,15 @@ bool AslImageWriter::write(int64_t stamp_ns, const cv::Mat& image, std::string* 
   const std::string name = std::to_string(stamp_ns) + ".png";
   const std::string path = cam_dir_ + "/data/" + name;
   bool ok = false;
+  std::string why;
   try {
     ok = codecs::imwrite(path, image);
   } catch (const cv::Exception& e) {
     ok = false;
+    why = std::string(": ") + e.what();
   }
   if (!ok) {
-    if (error) *error = path + ": cannot write image";
+    if (error) *error = path + ": cannot write image" + why;
     return false;
   }
   csv_ << stamp_ns << "," << name << "\n";

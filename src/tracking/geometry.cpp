@@ -149,6 +149,7 @@ bool solveWithSchurLM(const CameraModel& cam, const std::vector<BAKeyframe>& kfs
   so.max_num_iterations = options.max_num_iterations;
   so.huber_delta = options.huber_delta;
   so.max_wall_seconds = options.max_solver_time_in_seconds;
+  so.drop_points_behind = options.drop_points_behind;
   AbortCallback cb(options.abort, options.max_cpu_seconds);
   if (options.abort || options.max_cpu_seconds > 0.0)
     so.stop = [&cb] { return cb(ceres::IterationSummary()) != ceres::SOLVER_CONTINUE; };
@@ -159,6 +160,7 @@ bool solveWithSchurLM(const CameraModel& cam, const std::vector<BAKeyframe>& kfs
   sum->time_limit_hit = s.termination == schur_lm::Termination::kTimeLimit;
   sum->initial_cost = s.initial_cost;
   sum->final_cost = s.final_cost;
+  sum->excluded_points = s.excluded_points;
   return ok;
 }
 

@@ -69,17 +69,23 @@ class Solver {
     Dp_.resize(num_points);
     minDp_.resize(num_points);
     Vinv_.resize(num_points);
+    excluded_.assign(num_points, 0);
     W_.resize(res.size());
     T_.resize(res.size());
     R_.resize(np);
   }
 
   int numFree() const { return nf_; }
-  bool pointUsed(size_t i) const { return first_[i + 1] > first_[i]; }
+  bool pointUsed(size_t i) const { return first_[i + 1] > first_[i] && !excluded_[i]; }
+  /// Takes point i and its residuals out of the problem (its parameters are no longer changed).
+  void excludePoint(int i) { excluded_[static_cast<size_t>(i)] = 1; }
   bool poseFree(size_t k) const { return free_index_[k] >= 0; }
 
-  // Cost 0.5 sum Huber(|r|^2); with `linearize` also the normal equations. False if a residual does not project.
-  bool evaluate(const double* poses, const double* points, bool linearize, double* cost) {
+  // Cost 0.5 sum Huber(|r|^2); with `linearize` also the normal equations. False if a residual does not project;
+  // with `failed` (not when linearizing) every point with such a residual is listed there and the cost is that of
+  // the other points.
+  bool evaluate(const double* poses, const double* points, bool linearize, double* cost,
+                std::vector<int>* failed = nullptr) {
     for (size_t k = 0; k < R_.size(); ++k) R_[k] = Eigen::Map<const Eigen::Quaterniond>(poses + 7 * k + 3).toRotationMatrix();
     if (linearize) {
       for (int c = 0; c < nf_; ++c) {
@@ -103,7 +109,11 @@ class Solver {
         const Eigen::Vector3d pc = Rp + Eigen::Map<const Eigen::Vector3d>(poses + 7 * r.pose);
         Eigen::Vector2d uv;
         Eigen::Matrix<double, 2, 3> J;
-        if (pc.z() <= 1e-6 || !cam_.project(pc, &uv, linearize ? &J : nullptr)) return false;
+        if (pc.z() <= 1e-6 || !cam_.project(pc, &uv, linearize ? &J : nullptr)) {
+          if (!failed || linearize) return false;
+          failed->push_back(static_cast<int>(i));
+          break;
+        }
         const Eigen::Vector2d e = (uv - r.uv) * r.inv_sigma;
         const double s = e.squaredNorm();
         double w = 1.0;
@@ -136,7 +146,7 @@ class Solver {
       }
     }
     *cost = 0.5 * total;
-    return true;
+    return !failed || failed->empty();
   }
 
   // Jacobi scaling of the first linearization: the damping's lower clamp 1e-6 in the scaled variables.
@@ -238,6 +248,7 @@ class Solver {
   std::vector<Eigen::Matrix3d> V_, Vinv_, R_;
   std::vector<Eigen::Vector3d> gp_, Dp_, minDp_;
   std::vector<Mat63> W_, T_;
+  std::vector<char> excluded_;
   Eigen::MatrixXd S_;
   Eigen::VectorXd bc_;
 };
@@ -320,8 +331,28 @@ bool solve(const CameraModel& cam, std::vector<double>* poses, const std::vector
       }
     }
     double cand_cost;
-    if (!solver.evaluate(cand_poses.data(), cand_points.data(), false, &cand_cost))
-      cand_cost = std::numeric_limits<double>::max();
+    std::vector<int> behind;
+    const bool valid =
+        solver.evaluate(cand_poses.data(), cand_points.data(), false, &cand_cost, o.drop_points_behind ? &behind : nullptr);
+    if (!valid && !behind.empty()) {
+      // The step moved points behind a camera (or out of its field of view): as ORB-SLAM's local BA drops edges of
+      // negative depth, those points leave the problem where they are (their last valid position; the outlier flags
+      // after the solve follow the chi2 test as for every point) and the iteration continues from the current
+      // parameters and trust region with the rest. (Ceres' rule, the whole step invalid and the radius halved, let
+      // one such point - far away, its depth ill-defined - spend the iterations of a fisheye window: 52 of 89 local
+      // BAs of sim_clean_fisheye ended at the iteration limit, 8 of 92 on EuRoC.)
+      for (int i : behind) solver.excludePoint(i);
+      sum.excluded_points += static_cast<int>(behind.size());
+      cand_poses = *poses;
+      cand_points = *points;
+      if (!solver.evaluate(poses->data(), points->data(), true, &cost)) {
+        sum.termination = Termination::kFailure;
+        break;
+      }
+      x_norm = std::sqrt(freeNorm2(*poses, *points));
+      continue;
+    }
+    if (!valid) cand_cost = std::numeric_limits<double>::max();
     if (std::sqrt(step2) <= o.parameter_tolerance * (x_norm + o.parameter_tolerance) ||
         std::abs(cost - cand_cost) <= o.function_tolerance * cost) {
       --sum.iterations;  // as Ceres: the step that met a tolerance is neither taken nor counted

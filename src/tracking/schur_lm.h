@@ -32,6 +32,7 @@ struct Options {
   double gradient_tolerance = 1e-10;  // max |gradient| <= tol -> converged
   double initial_trust_region_radius = 1e4;
   double max_wall_seconds = 0.0;      // > 0: stop after this much wall time
+  bool drop_points_behind = true;     // a point a step moves behind a camera leaves the problem; false: Ceres' rule
   std::function<bool()> stop;         // asked after every iteration (incl. the initial evaluation): true = stop
 };
 
@@ -42,12 +43,15 @@ struct Summary {
   int successful_steps = 0;
   double initial_cost = 0.0, final_cost = 0.0;  // 0.5 * sum of Huber(r^2)
   Termination termination = Termination::kFailure;
+  int excluded_points = 0;      // points taken out of the problem because a step moved them behind a camera
+                                // (their parameters are those before that step)
   bool usable() const { return termination != Termination::kFailure; }
 };
 
 /// Minimizes over the poses with fixed[k] == 0 and every point that has a residual. Every residual must project
-/// at the start (the caller drops the others). Returns Summary::usable(); the parameters hold the best point found
-/// (the start when nothing was accepted).
+/// at the start (the caller drops the others). A point that a step moves behind a camera leaves the problem
+/// (Summary::excluded). Returns Summary::usable(); the parameters hold the best point found (the start when nothing
+/// was accepted).
 bool solve(const CameraModel& cam, std::vector<double>* poses, const std::vector<char>& fixed,
            std::vector<double>* points, const std::vector<Residual>& residuals, const Options& options,
            Summary* summary);

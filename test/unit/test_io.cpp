@@ -1,4 +1,5 @@
 // ASL image folder reader, trajectory readers (TUM / EuRoC) and the TUM writer.
+#include <dlfcn.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -301,7 +302,16 @@ TEST(SharedLibrary, LoadsSiblingsAndNamesWhatIsMissing) {
   err.clear();
   void* h = iraf_vo::openSiblingLibrary("libiraf_vo_codecs.so", &err);
   ASSERT_NE(h, nullptr) << err;
-  EXPECT_NE(iraf_vo::findLibrarySymbol(h, "iraf_vo_image_codecs_api_v1", "libiraf_vo_codecs.so", &err), nullptr);
+  void* api = iraf_vo::findLibrarySymbol(h, "iraf_vo_image_codecs_api_v1", "libiraf_vo_codecs.so", &err);
+  ASSERT_NE(api, nullptr) << err;
+  // Found beside libiraf_vo_core.so (not only through ctest's LD_LIBRARY_PATH): same folder as the core.
+  auto folderOf = [](const void* address) {
+    Dl_info info;
+    if (dladdr(address, &info) == 0 || !info.dli_fname) return std::string("?");
+    const std::string path = info.dli_fname;
+    return path.substr(0, path.rfind('/'));
+  };
+  EXPECT_EQ(folderOf(api), folderOf(reinterpret_cast<const void*>(&iraf_vo::openSiblingLibrary)));
   EXPECT_EQ(iraf_vo::findLibrarySymbol(h, "iraf_vo_no_such_symbol", "libiraf_vo_codecs.so", &err), nullptr);
   EXPECT_NE(err.find("iraf_vo_no_such_symbol"), std::string::npos) << err;
   const std::string path = tmpDir("codecs") + "/c.png";

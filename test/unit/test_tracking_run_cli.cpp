@@ -131,10 +131,11 @@ TEST(TrackingRunCli, HeAndClaheModes) {
   rmdir(dir.c_str());
 }
 
-// iraf_vo_run loads OpenCV's imgcodecs (through libiraf_vo_codecs.so, ~140 libraries with GDAL) and the ROS
+// iraf_vo_run loads OpenCV's imgcodecs (through libiraf_vo_codecs.so, ~120 more libraries with GDAL) and the ROS
 // libraries (bag reader) only when a run needs them: on an ASL folder of 8-bit gray PNGs it loads neither (the
-// dynamic loader's LD_DEBUG=files log lists every object it loads); a folder of 16-bit PNGs loads the codecs and
-// is read like before.
+// dynamic loader's LD_DEBUG=files log lists every object it loads); a folder of 16-bit PNGs loads the codecs and a
+// bag the ROS library, and both are read. LD_LIBRARY_PATH is unset (ctest's environment has the devel lib folder
+// on it): the plugins must be found beside libiraf_vo_core.so.
 TEST(TrackingRunCli, LoadsCodecsAndRosOnlyWhenNeeded) {
   if (!exists(kBin)) GTEST_SKIP() << kBin << " not built";
   const auto cam = iraf_vo::makeCamera("pinhole-radtan", 160, 120, {150, 150, 80, 60, 0, 0, 0, 0}, nullptr);
@@ -153,8 +154,9 @@ TEST(TrackingRunCli, LoadsCodecsAndRosOnlyWhenNeeded) {
   const std::string dir = tmpDir();
   writeFolder(dir + "/gray8", CV_8U);
   writeFolder(dir + "/gray16", CV_16U);
-  auto loaderLog = [&](const std::string& data, std::string* out) {
-    const std::string cmd = "LD_DEBUG=files " + kBin + " --dataset " + data + " --out " + data + "/t.txt --quiet 2>&1";
+  auto loaderLog = [&](std::string data, std::string* out) {
+    const std::string cmd = "env -u LD_LIBRARY_PATH LD_DEBUG=files " + kBin + " --dataset " + data + " --out " +
+                            dir + "/t.txt --quiet 2>&1";
     FILE* p = popen(cmd.c_str(), "r");
     ASSERT_TRUE(p);
     char buf[512];
@@ -175,4 +177,15 @@ TEST(TrackingRunCli, LoadsCodecsAndRosOnlyWhenNeeded) {
   EXPECT_NE(out.find("frames 3"), std::string::npos) << out;
   EXPECT_NE(out.find("libiraf_vo_codecs.so"), std::string::npos) << "16-bit PNG run did not load the codecs";
   EXPECT_EQ(out.find("skipped"), std::string::npos) << "16-bit PNGs not read: " << out;
+  EXPECT_EQ(out.find("libiraf_vo_ros"), std::string::npos);
+  // A bag of the 8-bit folder (written by iraf_vo_asl_to_bag) is read through libiraf_vo_ros.so.
+  const std::string to_bag = std::string(IRAF_VO_BIN_DIR) + "/iraf_vo_asl_to_bag";
+  if (exists(to_bag)) {
+    const std::string bag = dir + "/gray8.bag";
+    ASSERT_EQ(std::system((to_bag + " " + dir + "/gray8 " + bag + " > /dev/null 2>&1").c_str()), 0);
+    loaderLog(bag + " --topic /cam0/image_raw --camera " + dir + "/gray8/mav0/cam0/sensor.yaml", &out);
+    EXPECT_NE(out.find("frames 3"), std::string::npos) << out;
+    EXPECT_NE(out.find("libiraf_vo_ros.so"), std::string::npos) << "bag run did not load the ROS library";
+  }
+  std::system(("rm -rf " + dir).c_str());
 }

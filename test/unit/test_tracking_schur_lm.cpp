@@ -1,6 +1,7 @@
 // The local BA's Schur-complement Levenberg-Marquardt (src/tracking/schur_lm.h, BAOptions::use_ceres = false)
-// against ceres::Solve (use_ceres = true) on the same problems: the same steps, hence the same cost, iterations
-// and parameters; and its stop rules (abort flag, iteration budget).
+// against ceres::Solve (use_ceres = true) on the same problems with Ceres' rule for invalid steps: the same steps,
+// hence the same cost, iterations and parameters; its stop rules (abort flag, iteration budget); and its own rule
+// for points that a step moves behind a camera.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -103,6 +104,7 @@ TEST(TrackingSchurLM, SameStepsAsCeres) {
         BAOptions opt;
         opt.max_num_iterations = iterations;
         opt.max_solver_time_in_seconds = 100.0;
+        opt.drop_points_behind = false;  // Ceres' rule for steps that move a point behind a camera
         const BARun ceres = solve(*cam, start, opt, true);
         const BARun schur = solve(*cam, start, opt, false);
         SCOPED_TRACE(::testing::Message() << cam->modelName() << " kfs " << s[0] << " fixed " << s[1]
@@ -150,4 +152,42 @@ TEST(TrackingSchurLM, StopRules) {
   const BARun one = solve(*cam, start, opt, false);
   EXPECT_EQ(one.sum.iterations, 2);
   EXPECT_LT(one.sum.final_cost, 0.9 * one.sum.initial_cost);
+}
+
+// A point far away whose observations disagree with any depth in front of the cameras (their rays diverge): the
+// Gauss-Newton step moves it along its ray beyond infinity, behind the cameras. Ceres' rule would reject that step
+// and halve the trust region again and again (no progress for the other points); the solver instead takes the point
+// out of the problem at its last valid position (ORB-SLAM drops edges of negative depth) and converges on the rest.
+TEST(TrackingSchurLM, PointDrivenBehindACameraLeavesTheProblem) {
+  const auto cam = makeCam(false);
+  Problem p = makeProblem(*cam, 4, 2, 60, 5);
+  const Eigen::Isometry3d T_w_c0 = p.kfs[0].T_c_w.inverse();
+  const Eigen::Vector3d far = T_w_c0 * Eigen::Vector3d(0.3, -0.2, 400.0);
+  const int id = static_cast<int>(p.pts.size());
+  p.pts.push_back({far});
+  for (int k = 0; k < 4; ++k) {
+    Eigen::Vector2d uv;
+    ASSERT_TRUE(cam->project(p.kfs[k].T_c_w * far, &uv));
+    p.obs.push_back({k, id, uv + Eigen::Vector2d(k % 2 == 0 ? 6.0 : -6.0, 0.0), 1.0});  // rays diverge
+  }
+  BAOptions opt;
+  opt.max_num_iterations = 10;
+  const BARun r = solve(*cam, p, opt, false);
+  ASSERT_TRUE(r.ok);
+  EXPECT_GE(r.sum.excluded_points, 1);
+  opt.drop_points_behind = false;  // Ceres' rule on the same problem: no point excluded
+  EXPECT_EQ(solve(*cam, p, opt, false).sum.excluded_points, 0);
+  opt.drop_points_behind = true;
+  // The far point stays in front of its first camera (it left the problem at a valid position) ...
+  EXPECT_GT((r.p.kfs[0].T_c_w * r.p.pts[static_cast<size_t>(id)].p_w).z(), 0.0);
+  // ... and the rest converges as without that point: the same final cost within 1 %.
+  Problem q = p;
+  q.pts.pop_back();
+  q.obs.resize(q.obs.size() - 4);
+  const BARun ref = solve(*cam, q, opt, false);
+  ASSERT_TRUE(ref.ok);
+  EXPECT_EQ(ref.sum.excluded_points, 0);
+  EXPECT_NEAR(r.sum.final_cost, ref.sum.final_cost, 0.01 * ref.sum.final_cost);
+  for (size_t k = 2; k < 4; ++k)
+    EXPECT_LT((r.p.kfs[k].T_c_w.translation() - ref.p.kfs[k].T_c_w.translation()).norm(), 1e-3);
 }

@@ -159,6 +159,8 @@ struct BAOptions {
   int num_threads = 1;
   bool dense_schur = true;  // use_ceres: DENSE_SCHUR (fast for <= ~30 poses) or SPARSE_SCHUR
   bool use_ceres = false;   // ceres::Solve instead of the equivalent Schur-complement LM (schur_lm.h)
+  bool drop_points_behind = true;  // schur_lm: a point a step moves behind a camera leaves the problem where it
+                                   // was; false: Ceres' rule (the whole step is invalid)
 };
 struct BASummary {
   bool ran = false;
@@ -168,6 +170,7 @@ struct BASummary {
   double initial_rmse_px = 0.0, final_rmse_px = 0.0;
   double initial_cost = 0.0, final_cost = 0.0;  // 0.5 * sum of Huber(sigma-normalized squared error)
   std::vector<char> outlier;  // per observation, chi2 after the solve
+  int excluded_points = 0;    // points the solver took out because a step moved them behind a camera
   double ms = 0.0;
 };
 
