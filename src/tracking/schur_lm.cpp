@@ -340,7 +340,7 @@ bool solve(const CameraModel& cam, std::vector<double>* poses, const std::vector
       // after the solve follow the chi2 test as for every point) and the iteration continues from the current
       // parameters and trust region with the rest. (Ceres' rule, the whole step invalid and the radius halved, let
       // one such point - far away, its depth ill-defined - spend the iterations of a fisheye window: 52 of 89 local
-      // BAs of sim_clean_fisheye ended at the iteration limit, 8 of 92 on EuRoC.)
+      // BAs of sim_clean_fisheye ended at the iteration limit, 7 of 92 on EuRoC.)
       for (int i : behind) solver.excludePoint(i);
       sum.excluded_points += static_cast<int>(behind.size());
       cand_poses = *poses;
