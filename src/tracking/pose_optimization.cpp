@@ -23,15 +23,19 @@ double huberTerm(double e2, double sigma, double delta, bool robust) {
   return (!robust || s2 <= delta * delta) ? s2 : 2.0 * delta * std::sqrt(s2) - delta * delta;
 }
 
-// Robust cost of the current pose over the used observations: sum of Huber(|r|^2), r sigma-normalized.
+// Robust cost of the current pose over the used observations: sum of Huber(|r|^2), r sigma-normalized. An
+// observation that does not project at T is listed in *behind and left out of the sum.
 double poseCost(const CameraModel& cam, const Eigen::Isometry3d& T, const std::vector<Eigen::Vector3d>& p_w,
                 const std::vector<Eigen::Vector2d>& uv, const std::vector<double>& sigma, const std::vector<char>& use,
-                double delta, bool robust) {
+                double delta, bool robust, std::vector<size_t>* behind) {
   double c = 0.0;
   for (size_t i = 0; i < p_w.size(); ++i) {
     if (!use[i]) continue;
     const double e2 = reprojectionError2(cam, T, p_w[i], uv[i]);
-    if (e2 < 0) return std::numeric_limits<double>::infinity();
+    if (e2 < 0) {
+      behind->push_back(i);
+      continue;
+    }
     c += huberTerm(e2, sigma[i], delta, robust);
   }
   return c;
@@ -49,11 +53,15 @@ double poseCostOfErrors2(const std::vector<double>& e2, const std::vector<double
 // Levenberg-Marquardt on the 6-dof left perturbation (t' = t + dt, R' = Exp(dtheta) R) with Huber IRLS weights:
 // the same model and Jacobian as PoseOnlyCost, solved on 6x6 normal equations (no per-residual allocation).
 // initial_cost: poseCost() at *T.
+// A trial pose at which an observation does not project (behind the camera, outside a fisheye's field of view) drops
+// that observation from this solve and the iteration starts again from the current pose (the round's chi2
+// classification then decides on it); rejecting the trial instead cost fisheye sequences ~5 % of all trials.
 void solvePoseLM(const CameraModel& cam, const std::vector<Eigen::Vector3d>& p_w, const std::vector<Eigen::Vector2d>& uv,
-                 const std::vector<double>& sigma, const std::vector<char>& use, double delta, bool robust,
+                 const std::vector<double>& sigma, std::vector<char> use, double delta, bool robust,
                  int max_iterations, double initial_cost, Eigen::Isometry3d* T) {
   double lambda = 1e-4;
   double cost = initial_cost;
+  std::vector<size_t> behind;
   for (int it = 0; it < max_iterations; ++it) {
     Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
@@ -76,8 +84,8 @@ void solvePoseLM(const CameraModel& cam, const std::vector<Eigen::Vector3d>& p_w
     }
     // Only the lower triangle is summed (LDLT reads no other); the upper one mirrors it.
     copyLowerToUpper(&H);
-    bool improved = false;
-    for (int tries = 0; tries < 6 && !improved; ++tries) {
+    bool improved = false, dropped = false;
+    for (int tries = 0; tries < 6 && !improved && !dropped; ++tries) {
       Eigen::Matrix<double, 6, 6> A = H;
       A.diagonal() += lambda * H.diagonal().cwiseMax(1e-9);
       const Eigen::Matrix<double, 6, 1> dx = A.ldlt().solve(-g);
@@ -90,7 +98,15 @@ void solvePoseLM(const CameraModel& cam, const std::vector<Eigen::Vector3d>& p_w
       // slightly non-orthogonal matrices blow up through the constant-velocity model.
       Tn.linear() = Eigen::Quaterniond(dR * R).normalized().toRotationMatrix();
       Tn.translation() = T->translation() + dx.head<3>();
-      const double cn = poseCost(cam, Tn, p_w, uv, sigma, use, delta, robust);
+      behind.clear();
+      const double cn = poseCost(cam, Tn, p_w, uv, sigma, use, delta, robust, &behind);
+      if (!behind.empty()) {
+        for (size_t i : behind) use[i] = 0;
+        behind.clear();
+        cost = poseCost(cam, *T, p_w, uv, sigma, use, delta, robust, &behind);  // all project at *T
+        dropped = true;
+        continue;
+      }
       if (cn < cost) {
         *T = Tn;
         improved = true;
@@ -102,7 +118,7 @@ void solvePoseLM(const CameraModel& cam, const std::vector<Eigen::Vector3d>& p_w
         lambda *= 10.0;
       }
     }
-    if (!improved) return;
+    if (!improved && !dropped) return;
   }
 }
 

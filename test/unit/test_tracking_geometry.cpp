@@ -346,3 +346,48 @@ TEST(TrackingGeometry, TwoViewNoisyLowParallaxRefusesUndeterminedTranslations) {
     EXPECT_LE(2 * after.wrong, before.wrong - 2) << "the check removes most wrong initializations";
   }
 }
+
+// A fisheye sees ~90 deg off its axis: a point just in front of the start pose's image plane, just behind the true
+// pose's (a match on the edge of the view that agrees with the start pose), does not project at trial poses towards
+// the truth. The refinement drops it from the solve and reaches the true pose from the other points' observations
+// (rejecting those trials instead left the pose at the start); it is then classified an outlier.
+TEST(TrackingGeometry, PoseRefinementDropsAPointThatLeavesTheView) {
+  {
+    auto cam = makeCam(true);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> ux(-2, 2), uy(-1.5, 1.5), uz(3, 8);
+    std::normal_distribution<double> nd(0.0, 0.5);
+    const Eigen::Isometry3d T_c_w = makePose({2, -1, 3}, {0.1, -0.2, 0.3});
+    const Eigen::Isometry3d T_start = makePose({2, 2, -1}, {0.03, 0.03, 0.0}) * T_c_w;
+    std::vector<Eigen::Vector3d> P;
+    std::vector<Eigen::Vector2d> uv;
+    while (P.size() < 80) {
+      const Eigen::Vector3d Xc(ux(rng), uy(rng), uz(rng));
+      Eigen::Vector2d u;
+      if (!cam->project(Xc, &u)) continue;
+      P.push_back(T_c_w.inverse() * Xc);
+      uv.push_back(u + Eigen::Vector2d(nd(rng), nd(rng)));
+    }
+    // 1 cm in front of the start pose's image plane, 3 m to the side where the true camera sees it most behind.
+    Eigen::Vector3d X_edge;
+    double z_true = 1.0;
+    for (int k = 0; k < 16; ++k) {
+      const double a = k * M_PI / 8;
+      const Eigen::Vector3d X = T_start.inverse() * Eigen::Vector3d(3.0 * std::cos(a), 3.0 * std::sin(a), 0.01);
+      if ((T_c_w * X).z() < z_true) z_true = (T_c_w * (X_edge = X)).z();
+    }
+    ASSERT_LT(z_true, -0.01);
+    Eigen::Vector2d u_edge;
+    ASSERT_TRUE(cam->project(T_start * X_edge, &u_edge));
+    P.push_back(X_edge);
+    uv.push_back(u_edge);  // agrees with the start pose: the match pulls towards it
+    std::vector<double> sg(P.size(), 1.0);
+    std::vector<char> inl(P.size(), 1);
+    Eigen::Isometry3d T = T_start;
+    const int n = optimizePose(*cam, P, uv, sg, PoseOptimizationOptions(), &T, &inl);
+    EXPECT_GE(n, 75);
+    EXPECT_LT(rotationErrorDeg(T.rotation(), T_c_w.rotation()), 0.1);
+    EXPECT_LT((T.translation() - T_c_w.translation()).norm(), 0.01);
+    EXPECT_FALSE(inl.back());
+  }
+}
