@@ -1,5 +1,5 @@
-// libiraf_vo_codecs.so: OpenCV's imgcodecs behind the plugin ABI of io/image_codecs.h. The only iraf_vo library
-// that links opencv_imgcodecs; libiraf_vo_core.so loads it on first use.
+// libiraf_vo_codecs.so: OpenCV's imgcodecs behind the plugin ABI of io/image_codecs.h, for libiraf_vo_core.so
+// (which does not link imgcodecs) and so for iraf_vo_run; the core loads it on first use.
 #include <opencv2/imgcodecs.hpp>
 
 #include <climits>

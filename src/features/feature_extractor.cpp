@@ -11,7 +11,6 @@
 namespace iraf_vo {
 
 namespace {
-constexpr int kPatchSize = 31;  // ORB patch (descriptor) size
 }  // namespace
 
 FeatureExtractor::FeatureExtractor() = default;
@@ -103,7 +102,7 @@ void FeatureExtractor::detectLevel(int l, int quota, const FeatureParams& p, Fea
   const float scale = static_cast<float>(level_scale);
   for (cv::KeyPoint& kp : kps) {
     kp.octave = l;
-    kp.size = static_cast<float>(kPatchSize * level_scale);
+    kp.size = static_cast<float>(kOrbPatchSize * level_scale);
     cv::KeyPoint k0 = kp;
     k0.pt *= scale;
     all_kps_.push_back(k0);

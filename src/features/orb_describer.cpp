@@ -102,30 +102,50 @@ cv::Mat blurSubmatrixOpenCv(const cv::Mat& level, cv::Mat* buffer) {
   return inner;
 }
 
+namespace {
+
+// The start-up check's input and cv::ORB's answer: random keypoints on a random image, their cv::ORB descriptors
+// and the image blurred as cv::ORB blurs it. Computed once per process (every kernel and pattern is compared
+// against the same reference).
+struct KernelCheck {
+  std::vector<cv::KeyPoint> kps;
+  cv::Mat reference, padded, blurred;
+  bool valid = false;
+};
+
+const KernelCheck& kernelCheck() {
+  static const KernelCheck check = [] {
+    KernelCheck c;
+    cv::RNG rng(0x0b5e55ed);
+    cv::Mat img(160, 200, CV_8U);
+    rng.fill(img, cv::RNG::UNIFORM, 0, 256);
+    for (int i = 0; i < 400; ++i) {
+      const float angle = i < 8 ? 45.f * i : rng.uniform(0.f, 360.f);  // the axes and diagonals, then random
+      c.kps.emplace_back(cv::Point2f(static_cast<float>(rng.uniform(kEdgeThreshold, img.cols - kEdgeThreshold)),
+                                     static_cast<float>(rng.uniform(kEdgeThreshold, img.rows - kEdgeThreshold))),
+                         kOrbPatchSize, angle);
+    }
+    std::vector<cv::KeyPoint> ref_kps = c.kps;
+    makeReferenceOrb()->compute(img, ref_kps, c.reference);
+    c.valid = ref_kps.size() == c.kps.size();
+    c.blurred = blurSubmatrixOpenCv(img, &c.padded);
+    return c;
+  }();
+  return check;
+}
+
+}  // namespace
+
 bool orbKernelMatchesOpenCv(bool simd, const OrbPattern& pattern) {
   const OrbDescriber::Kernel kernel = simd ? simdKernel() : describeScalar;
   if (!kernel || !pattern.valid()) return false;
-  cv::RNG rng(0x0b5e55ed);
-  cv::Mat img(160, 200, CV_8U);
-  rng.fill(img, cv::RNG::UNIFORM, 0, 256);
-  std::vector<cv::KeyPoint> kps;
-  for (int i = 0; i < 400; ++i) {
-    const float angle = i < 8 ? 45.f * i : rng.uniform(0.f, 360.f);  // the axes and diagonals, then random
-    kps.emplace_back(cv::Point2f(static_cast<float>(rng.uniform(kEdgeThreshold, img.cols - kEdgeThreshold)),
-                                 static_cast<float>(rng.uniform(kEdgeThreshold, img.rows - kEdgeThreshold))),
-                     kOrbPatchSize, angle);
-  }
-  std::vector<cv::KeyPoint> ref_kps = kps;
-  cv::Mat ref;
-  makeReferenceOrb()->compute(img, ref_kps, ref);
-  if (ref_kps.size() != kps.size()) return false;
-  cv::Mat padded;
-  const cv::Mat blurred = blurSubmatrixOpenCv(img, &padded);
+  const KernelCheck& c = kernelCheck();
+  if (!c.valid) return false;
   uint8_t desc[32];
-  for (size_t i = 0; i < kps.size(); ++i) {
-    kernel(blurred.ptr<uint8_t>(cvRound(kps[i].pt.y)) + cvRound(kps[i].pt.x), static_cast<int>(blurred.step),
-           kps[i].angle, pattern, desc);
-    if (std::memcmp(desc, ref.ptr<uint8_t>(static_cast<int>(i)), 32) != 0) return false;
+  for (size_t i = 0; i < c.kps.size(); ++i) {
+    kernel(c.blurred.ptr<uint8_t>(cvRound(c.kps[i].pt.y)) + cvRound(c.kps[i].pt.x), static_cast<int>(c.blurred.step),
+           c.kps[i].angle, pattern, desc);
+    if (std::memcmp(desc, c.reference.ptr<uint8_t>(static_cast<int>(i)), 32) != 0) return false;
   }
   return true;
 }

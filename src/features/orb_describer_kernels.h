@@ -10,7 +10,6 @@
 
 namespace iraf_vo {
 
-constexpr int kOrbPatchSize = 31;
 // cv::ORB's border around a level: max(edge threshold 19, rotated half patch ceil(15 sqrt 2) = 22, 4) + 1.
 constexpr int kOrbPad = 23;
 

@@ -50,7 +50,7 @@ struct Summary {
 
 /// Minimizes over the poses with fixed[k] == 0 and every point that has a residual. Every residual must project
 /// at the start (the caller drops the others). A point that a step moves behind a camera leaves the problem
-/// (Summary::excluded). Returns Summary::usable(); the parameters hold the best point found (the start when nothing
+/// (Summary::excluded_points). Returns Summary::usable(); the parameters hold the best point found (the start when nothing
 /// was accepted).
 bool solve(const CameraModel& cam, std::vector<double>* poses, const std::vector<char>& fixed,
            std::vector<double>* points, const std::vector<Residual>& residuals, const Options& options,

@@ -14,6 +14,9 @@
 
 namespace iraf_vo {
 
+/// ORB's patch size (the keypoint size of level 0 and the descriptor's sampling window).
+constexpr int kOrbPatchSize = 31;
+
 /// ORB's sampling pattern: pair k compares the blurred image at p0[k] and p1[k] (offsets from the
 /// keypoint at angle 0); bit k of the descriptor (byte k / 8, bit k % 8) is I(p0) < I(p1).
 struct OrbPattern {

@@ -1,6 +1,6 @@
 // Image files through OpenCV's imgcodecs, loaded on first use from libiraf_vo_codecs.so (common/shared_library.h):
 // libiraf_vo_core.so does not link imgcodecs, so a run whose images are all 8-bit gray PNG (png_gray8.h decodes
-// those) never loads it and its ~140 dependent libraries. Same behaviour as the cv:: functions of the same names
+// those) never loads it and the ~120 more libraries it needs on Debian. Same behaviour as the cv:: functions of the same names
 // (empty Mat / false on failure, cv::Exception from OpenCV); cv::Exception too when the codec library cannot be
 // loaded, naming it and why. ROS-free; thread-safe.
 #pragma once
