@@ -38,6 +38,12 @@ cv::Mat toAlbedo(const cv::Mat& f) {
   return out;
 }
 
+// Adds v to the pixels of f inside r, a rectangle already clipped to f: a patch drawn at the tile's edge clips to an
+// empty rectangle, which adds nothing (OpenCV cannot add to an empty view).
+void addInside(cv::Mat& f, const cv::Rect& r, double v) {
+  if (r.area() > 0) f(r) += v;
+}
+
 cv::Rect metersRect(double x_m, double y_m, double w_m, double h_m, double tpm) {
   return cv::Rect(cvRound(x_m * tpm), cvRound(y_m * tpm), std::max(1, cvRound(w_m * tpm)), std::max(1, cvRound(h_m * tpm)));
 }
@@ -60,7 +66,7 @@ cv::Mat makeFacadeTexture(int w, int h, double tpm, uint64_t seed) {
   for (int fl = 0; fl < 5; ++fl) {
     // Cornice between floors: a 10-20 cm band, lighter or darker than the plaster.
     const double band = rng.uniform(0.1, 0.2);
-    f(metersRect(0, fl * floor_h, W, band, tpm) & cv::Rect(0, 0, w, h)) += rng.uniform(-35.0, 35.0);
+    addInside(f, metersRect(0, fl * floor_h, W, band, tpm) & cv::Rect(0, 0, w, h), rng.uniform(-35.0, 35.0));
     for (int c = 0; c < cols; ++c) {
       const double x0 = c * spacing + (spacing - ww) / 2, y0 = fl * floor_h + 0.45 * (floor_h - wh);
       const cv::Rect frame = metersRect(x0 - 0.07, y0 - 0.07, ww + 0.14, wh + 0.14, tpm) & cv::Rect(0, 0, w, h);
@@ -92,7 +98,7 @@ cv::Mat makeFacadeTexture(int w, int h, double tpm, uint64_t seed) {
       if (rng.uniform(0.0, 1.0) < 0.4) {
         const cv::Rect streak = metersRect(x0 + ww * 0.2, y0 + wh + 0.13, ww * 0.6, rng.uniform(0.3, 1.0), tpm) &
                                 cv::Rect(0, 0, w, h);
-        f(streak) -= rng.uniform(8.0, 25.0);
+        addInside(f, streak, -rng.uniform(8.0, 25.0));
       }
     }
   }
@@ -130,7 +136,7 @@ cv::Mat makeAsphaltTexture(int w, int h, double tpm, uint64_t seed) {
   for (int i = 0; i < static_cast<int>(area / 25); ++i) {
     const cv::Rect r = metersRect(rng.uniform(0.0, W), rng.uniform(0.0, H), rng.uniform(0.5, 4.0), rng.uniform(0.5, 3.0),
                                   tpm) & cv::Rect(0, 0, w, h);
-    f(r) += rng.uniform(-22.0, 18.0);
+    addInside(f, r, rng.uniform(-22.0, 18.0));
   }
   // Cracks: random walks, 1-3 texels wide.
   for (int i = 0; i < static_cast<int>(area / 12); ++i) {

@@ -132,6 +132,26 @@ TEST(SimScenes, StreetTexturedFacadesAtThreeToFiftyMetres) {
   }
 }
 
+// A repair patch or grime streak drawn at the tile's edge clips to an empty rectangle; adding to it must not throw
+// (`iraf_vo_simulate --motion drive --seed 23` stopped on OpenCV's "Can't reallocate empty Mat" here, 4096-texel
+// asphalt). At 16 texels per metre (512-texel tiles, the same 32 m) such a patch falls in several of seeds 0-63:
+// every street texture builds, textured.
+TEST(SimScenes, StreetTexturesBuildAtEverySeed) {
+  const double tpm = 16.0;
+  const int w = 512;  // nextPow2(32 m x 16)
+  for (uint64_t seed = 0; seed < 64; ++seed) {
+    const uint64_t ts = seed * 32;  // makeStreetScene's texture seeds
+    cv::Mat asphalt, facade;
+    ASSERT_NO_THROW(asphalt = iraf_vo::makeAsphaltTexture(w, w, tpm, ts + 4)) << "seed " << seed;
+    ASSERT_NO_THROW(facade = iraf_vo::makeFacadeTexture(w, w / 2, tpm, ts)) << "seed " << seed;
+    cv::Scalar mean, sd;
+    cv::meanStdDev(asphalt, mean, sd);
+    EXPECT_GT(sd[0], 5.0) << "seed " << seed;
+    cv::meanStdDev(facade, mean, sd);
+    EXPECT_GT(sd[0], 5.0) << "seed " << seed;
+  }
+}
+
 TEST(SimScenes, StreetObjectsKeepClearOfTheCar) {
   const SceneSetup s = makeSetup(MotionKind::kDrive);
   const MotionPreset& p = s.preset;
