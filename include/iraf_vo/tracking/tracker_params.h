@@ -73,7 +73,8 @@ struct TrackerParams {
   double fuse_radius_px = 3.0;          // fusion search window at octave 0 (times scale_factor^octave)
   // ---- sliding-window BA ----
   int ba_window_size = 10;
-  int max_map_keyframes = 20;
+  int max_map_keyframes = 25;           // keyframes kept (older are dropped); the local BA's fixed anchors are the
+                                        // kept ones outside its window that see window points (see README)
   int ba_max_num_iterations = 10;
   double ba_max_solver_time_in_seconds = 0.1;  // CPU time of the mapping thread (not wall clock: under load
                                                // a wall-clock budget left BA at 0-1 iterations)
