@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -188,4 +189,51 @@ TEST(TrackingRunCli, LoadsCodecsAndRosOnlyWhenNeeded) {
     EXPECT_NE(out.find("libiraf_vo_ros.so"), std::string::npos) << "bag run did not load the ROS library";
   }
   std::system(("rm -rf " + dir).c_str());
+}
+
+// The default threaded run keeps the map's scale through a long, strong over-exposure: `iraf_vo_simulate --preset mixed
+// --seed 23` (4.86 m in a room; over-exposure x3 over frames 249-288) collapsed 3x with 20 keyframes kept (103.7 mm =
+// 2.1 % of the path, TRACKING throughout; README "Keyframes kept in the map"); issue 11 asks <= 1 % of the path and
+// >= 95 % of the frames tracked with the default parameters.
+TEST(TrackingRunCli, DefaultRunKeepsScaleThroughOverExposure) {
+  if (!exists(kBin)) GTEST_SKIP() << kBin << " not built";
+  const std::string sim = std::string(IRAF_VO_BIN_DIR) + "/iraf_vo_simulate";
+  if (!exists(sim)) GTEST_SKIP() << sim << " not built";
+  const std::string dir = tmpDir(), seq = dir + "/mixed23";
+  ASSERT_EQ(std::system((sim + " --preset mixed --seed 23 --frames 300 --threads 1 --out " + seq + " > " + dir +
+                         "/sim.log 2>&1").c_str()),
+            0);
+  std::string out;
+  ASSERT_EQ(run("--dataset " + seq + " --gt " + seq + "/groundtruth.txt --mode iraf --quiet --out " + dir +
+                    "/traj.txt --stats " + dir + "/stats.json",
+                &out),
+            0)
+      << out;
+  std::ifstream js(dir + "/stats.json");
+  std::stringstream ss;
+  ss << js.rdbuf();
+  auto number = [&](const std::string& key) {
+    const size_t k = ss.str().find("\"" + key + "\":");
+    return k == std::string::npos ? -1.0 : std::atof(ss.str().c_str() + k + key.size() + 3);
+  };
+  double path = 0.0;
+  {
+    std::ifstream gt(seq + "/groundtruth.txt");
+    std::string line;
+    bool have = false;
+    double px = 0, py = 0, pz = 0;
+    while (std::getline(gt, line)) {
+      if (line.empty() || line[0] == '#') continue;
+      double t, x, y, z;
+      if (std::sscanf(line.c_str(), "%lf %lf %lf %lf", &t, &x, &y, &z) != 4) continue;
+      if (have) path += std::sqrt((x - px) * (x - px) + (y - py) * (y - py) + (z - pz) * (z - pz));
+      px = x, py = y, pz = z, have = true;
+    }
+  }
+  ASSERT_GT(path, 4.0) << "ground truth of " << seq;
+  const double ate = number("ate_rmse");
+  ASSERT_GE(ate, 0.0) << ss.str();
+  EXPECT_LE(ate, 0.01 * path) << "ATE " << ate << " m over a " << path << " m path\n" << ss.str();
+  EXPECT_GE(number("tracked_pct"), 95.0) << ss.str();
+  EXPECT_EQ(std::system(("rm -rf " + dir).c_str()), 0);
 }
