@@ -134,8 +134,8 @@ TEST(SimScenes, StreetTexturedFacadesAtThreeToFiftyMetres) {
 
 // A repair patch or grime streak drawn at the tile's edge clips to an empty rectangle; adding to it must not throw
 // (`iraf_vo_simulate --motion drive --seed 23` stopped on OpenCV's "Can't reallocate empty Mat" here, 4096-texel
-// asphalt). At 16 texels per metre (512-texel tiles, the same 32 m) such a patch falls in several of seeds 0-63:
-// every street texture builds, textured.
+// asphalt). At 16 texels per metre (512-texel tiles, the same 32 m) such a patch falls already at seed 8 (before the
+// fix): every street texture of seeds 0-63 builds, textured.
 TEST(SimScenes, StreetTexturesBuildAtEverySeed) {
   const double tpm = 16.0;
   const int w = 512;  // nextPow2(32 m x 16)
