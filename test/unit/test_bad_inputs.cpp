@@ -1,4 +1,4 @@
-// Bad input to the core APIs (issue 7): truncated / empty images, broken data.csv, bad trajectory files,
+// Bad input to the core APIs: truncated / empty images, broken data.csv, bad trajectory files,
 // camera yaml with NaN or negative focal length, invalid params. Every case must give a clear error naming
 // the file (or the field) and never crash or throw anything but the documented std::invalid_argument.
 // The reproducers of crashes found by the fuzzers (scripts/fuzz.sh) are regression tests here too.

@@ -223,7 +223,7 @@ TEST(LocalBA, OutlierObservationsAreRemovedAndPosesWrittenBack) {
 
 // The tracking thread keeps adding keyframes and (starving) points while a threaded BA runs on a snapshot. On
 // write-back they must follow the optimized keyframes; left at their pre-BA place they disagreed with the moved
-// poses by > 10 px and the next BAs shrank the monocular scale (issue 11 step 5).
+// poses by > 10 px and the next BAs shrank the monocular scale.
 TEST(LocalBA, KeyframesAndPointsAddedWhileBARanFollowTheCorrection) {
   HandBuiltMap hb(20, 2);  // keyframes 0..3
   LocalBAProblem prob = hb.map.localBAProblem(2, 0.0);

@@ -19,7 +19,7 @@ struct PipelineParams {
   std::set<std::string> user_set;
 };
 
-/// Resolution rule (issue 11). The defaults of the size-dependent fields are ORB-SLAM's for EuRoC cam0 (752x480,
+/// Resolution rule. The defaults of the size-dependent fields are ORB-SLAM's for EuRoC cam0 (752x480,
 /// focal 458.654 px); for another camera they are derived from the image size and the focal length:
 ///   s = sqrt(width * height / (752 * 480))                       (linear image-size ratio)
 ///   features.n_features  = clamp(1000 s, 500, 2000), rounded to 50   (keypoint density ~ per image side)
