@@ -32,7 +32,7 @@ struct PipelineParams {
 ///                          (prediction errors are angles: pixels scale with the focal length), at least 5 / 15 / 2
 ///   tracker.init_min_matches / init_min_triangulated / init_min_parallax_points = 100 / 60 / 50 * n_features / 1000
 ///   tracker.min_triangulation_parallax_deg = fisheye: 1 deg * 458.654 / focal, to 0.01 deg (a new point's depth
-///                          error is its bearing noise, pixels / focal, over the parallax); pinhole: 1 deg (README)
+///                          error is its bearing noise, pixels / focal, over the parallax); pinhole: 1 deg (docs/decisions.md)
 /// Pixel-noise thresholds (init_threshold_px, pnp_threshold_px) and the initialization's parallax test do not depend
 /// on the camera (scaling the latter too made the fisheye initialize later, 97.3 % tracked, and was not more accurate).
 /// n_features, cell_size, n_levels, search radii, init matches / triangulated / parallax points, triangulation parallax:
