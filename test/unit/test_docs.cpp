@@ -144,8 +144,8 @@ TEST(Docs, EveryTestProgramListedInTestingExists) {
       size_t end = pos;
       while (end < text.size() && isWordChar(text[end])) ++end;
       const std::string name = text.substr(pos, end - pos);
-      // test_data.h, test_*.cpp globs and the like are not program names.
-      if (end < text.size() && (text[end] == '.' || text[end] == '*')) continue;
+      // test_data.h, test_*.cpp and test_<x> patterns are not program names.
+      if (end == pos + prefix.size() || (end < text.size() && (text[end] == '.' || text[end] == '*'))) continue;
       if (!known.count(name)) stale.insert(name);
     }
   }
