@@ -11,6 +11,7 @@
 #include <string>
 
 #include "common/test_data.h"
+#include "iraf_vo/camera/camera_loader.h"
 #include "iraf_vo/enhance/enhance_params_io.h"
 #include "iraf_vo/enhance/enhancer.h"
 #include "iraf_vo/features/feature_extractor.h"
