@@ -86,8 +86,7 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
   void startSession(const CameraModelPtr& cam, const std::string& why) {
     if (resolution_rule_) {  // before mutex_: replaceParams takes the reconfigure lock, whose callback takes mutex_
       TrackerParams p = params();
-      const std::string rule = applyTrackerResolutionRule(cam->width(), cam->height(), cam->focal(),
-                                                          cam->modelName() == "kannala-brandt", userSet(), &p);
+      const std::string rule = applyTrackerResolutionRule(*cam, userSet(), &p);
       replaceParams(p);
       NODELET_INFO("tracker: resolution rule, %s (~parameters given are kept; ~resolution_rule false: off)",
                    rule.c_str());

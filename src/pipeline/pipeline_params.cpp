@@ -128,4 +128,13 @@ std::string applyResolutionRule(int width, int height, double focal, bool fishey
   return f + ", " + applyTrackerResolutionRule(width, height, focal, fisheye, p->user_set, &p->tracker);
 }
 
+std::string applyResolutionRule(const CameraModel& camera, PipelineParams* p) {
+  return applyResolutionRule(camera.width(), camera.height(), camera.focal(), camera.isFisheye(), p);
+}
+
+std::string applyTrackerResolutionRule(const CameraModel& camera, const std::set<std::string>& user_set,
+                                       TrackerParams* p) {
+  return applyTrackerResolutionRule(camera.width(), camera.height(), camera.focal(), camera.isFisheye(), user_set, p);
+}
+
 }  // namespace iraf_vo

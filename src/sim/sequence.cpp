@@ -1,6 +1,5 @@
 #include "iraf_vo/sim/sequence.h"
 
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "iraf_vo/camera/camera_loader.h"
+#include "iraf_vo/common/wall_clock.h"
 #include "iraf_vo/io/image_codecs.h"
 
 namespace iraf_vo {
@@ -18,9 +18,6 @@ namespace iraf_vo {
 namespace fs = std::filesystem;
 
 namespace {
-double msSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
 void setError(std::string* error, const std::string& msg) {
   if (error) *error = msg;
 }
@@ -72,7 +69,6 @@ CameraModelPtr makeSimCamera(const std::string& camera, int width, int height, s
 
 bool writeSensorYaml(const CameraModel& camera, double rate_hz, const std::string& path, std::string* error) {
   const std::vector<double> p = camera.parameters();
-  const bool radtan = camera.modelName() == "pinhole-radtan";
   std::ofstream f(path);
   if (!f) {
     setError(error, path + ": cannot write");
@@ -91,7 +87,7 @@ bool writeSensorYaml(const CameraModel& camera, double rate_hz, const std::strin
     << "resolution: [" << camera.width() << ", " << camera.height() << "]\n"
     << "camera_model: pinhole\n"
     << "intrinsics: [" << num(p[0]) << ", " << num(p[1]) << ", " << num(p[2]) << ", " << num(p[3]) << "]  # fu, fv, cu, cv\n"
-    << "distortion_model: " << (radtan ? "radial-tangential" : "equidistant") << "\n"
+    << "distortion_model: " << camera.distortionModel() << "\n"
     << "distortion_coefficients: [";
   for (size_t i = 4; i < p.size(); ++i) f << (i > 4 ? ", " : "") << num(p[i]);
   f << "]\n";
@@ -173,14 +169,14 @@ bool simulateSequence(const Renderer& renderer, const TrajectoryParams& traj, co
     f.index = i;
     f.stamp_ns = renderer.frameStampNs(i);
     f.T_W_C = trajectoryPose(traj, renderer.frameTime(i));
-    auto t0 = std::chrono::steady_clock::now();
+    auto t0 = SteadyClock::now();
     renderer.renderFrame(traj, i, &radiance, write_depth ? &f.depth : nullptr);
     rep.render_ms += msSince(t0);
-    t0 = std::chrono::steady_clock::now();
+    t0 = SteadyClock::now();
     applyPhotometric(radiance, i, photometric, &f.image);
     rep.photometric_ms += msSince(t0);
     if (!out_dir.empty()) {
-      t0 = std::chrono::steady_clock::now();
+      t0 = SteadyClock::now();
       const std::string name = std::to_string(f.stamp_ns) + ".png";
       if (!codecs::imwrite(cam_dir + "/data/" + name, f.image)) {
         setError(error, cam_dir + "/data/" + name + ": cannot write PNG");

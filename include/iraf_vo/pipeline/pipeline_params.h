@@ -5,6 +5,7 @@
 #include <set>
 #include <string>
 
+#include "iraf_vo/camera/camera_model.h"
 #include "iraf_vo/enhance/enhancer.h"
 #include "iraf_vo/features/feature_params.h"
 #include "iraf_vo/tracking/tracker_params.h"
@@ -48,7 +49,7 @@ struct ResolutionDefaults {
   int init_min_matches = 100, init_min_triangulated = 60, init_min_parallax_points = 50;
   double min_triangulation_parallax_deg = 1.0;
 };
-/// fisheye: the camera is a fisheye (Kannala-Brandt), whose triangulation parallax follows its focal length.
+/// fisheye: the camera is a fisheye (CameraModel::isFisheye), whose triangulation parallax follows its focal length.
 ResolutionDefaults resolutionDefaults(int width, int height, double focal, double scale_factor = 1.2,
                                       bool fisheye = false);
 
@@ -59,6 +60,10 @@ std::string applyResolutionRule(int width, int height, double focal, bool fishey
 std::string applyFeatureResolutionRule(int width, int height, const std::set<std::string>& user_set, FeatureParams* p);
 std::string applyTrackerResolutionRule(int width, int height, double focal, bool fisheye,
                                        const std::set<std::string>& user_set, TrackerParams* p);
+/// The same rules for a camera: its size, focal length and kind (what the tools and the tracker nodelet use).
+std::string applyResolutionRule(const CameraModel& camera, PipelineParams* p);
+std::string applyTrackerResolutionRule(const CameraModel& camera, const std::set<std::string>& user_set,
+                                       TrackerParams* p);
 
 /// Reads the optional sections of a YAML file (other top-level keys are ignored). false + *error naming the file,
 /// the section and the key; *p is unchanged for a section that fails. The keys read go to p->user_set.
