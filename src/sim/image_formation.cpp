@@ -10,6 +10,8 @@
 namespace iraf_vo {
 
 namespace {
+constexpr double kMaxBlurPx = 64.0;  // longest blur of a real image (a shift of the view within one exposure)
+
 const LightProfile& checked(const LightProfile& p) {
   const std::string err = validate(p);
   if (!err.empty()) throw std::invalid_argument("light profile '" + p.name + "': " + err);
@@ -150,7 +152,7 @@ void ImageFormation::capture(int frame, const cv::Mat& radiance, const FrameGeom
   const double extra = e.time_s - profile_.sensor.reference_exposure_s;
   const double motion = std::hypot(image_motion_px.x, image_motion_px.y);
   if (extra > 0.0 && motion > 0.0 && frame_period_s > 0.0) {
-    const double length = motion * extra / frame_period_s;
+    const double length = std::min(kMaxBlurPx, motion * extra / frame_period_s);
     if (length >= 1.5)
       cv::filter2D(irr, irr, -1, lineKernel(length, image_motion_px / motion), cv::Point(-1, -1), 0,
                    cv::BORDER_REFLECT);

@@ -47,7 +47,7 @@ bool lightProfile(const std::string& name, int n, double rate_hz, double referen
   if (real_images) {
     // A real image carries its own sensor's noise: at the reference exposure add only a little more.
     p.sensor.dn_per_electron = 0.02;
-    p.sensor.full_well_e = 255.0 / p.sensor.dn_per_electron;
+    p.sensor.full_well_e = 270.0 / p.sensor.dn_per_electron;
   }
   AutoExposureParams& ae = p.ae;
   ae.initial.time_s = reference_exposure_s;

@@ -410,8 +410,11 @@ bool degradeAslSequence(const std::string& in_dir, const std::string& out_dir, c
     // The image motion of the frame, for the blur of an exposure longer than the reference.
     if (!prev.empty() && prev.size() == cur.size() &&
         formation.nextExposure().time_s > light.sensor.reference_exposure_s) {
-      motion = cv::phaseCorrelate(prev, cur);
-      if (stamp_ns > prev_ns) period = (stamp_ns - prev_ns) * 1e-9;
+      double response = 0.0;
+      motion = cv::phaseCorrelate(prev, cur, cv::noArray(), &response);
+      if (!(response > 0.05)) motion = cv::Point2d(0.0, 0.0);  // no consistent shift between the images
+      const double dt = (stamp_ns - prev_ns) * 1e-9;
+      if (dt > 1e-3 && dt < 1.0) period = dt;
     }
     FrameLight rec;
     formation.capture(index, cur, nullptr, out, &rec, motion, period);

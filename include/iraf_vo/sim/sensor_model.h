@@ -19,8 +19,8 @@ namespace iraf_vo {
 
 struct SensorParams {
   // Defaults fitted to EuRoC MH_01's still frames (var = 0.050-0.053 * mean + 0.27-0.45 DN^2).
-  double full_well_e = 5100.0;     // a pixel holds at most this many electrons
-  double dn_per_electron = 0.05;   // ADC conversion at unity gain: 255 DN = full well
+  double full_well_e = 5400.0;     // a pixel holds at most this many electrons (270 DN at unity gain)
+  double dn_per_electron = 0.05;   // ADC conversion at unity gain (255 DN = 5100 e-)
   double read_noise_e = 10.0;      // pixel read noise before the analog gain (electrons rms)
   double adc_noise_dn = 0.3;       // noise after the gain (DN rms)
   double black_level_dn = 0.0;     // offset added before quantization
