@@ -176,14 +176,14 @@ double globalGain(const PhotometricParams& params, int frame) {
   return g;
 }
 
-void applyPhotometric(const cv::Mat& in, int frame, const PhotometricParams& params, cv::Mat* out) {
-  if (in.empty()) throw std::invalid_argument("applyPhotometric: empty image");
+void applyIllumination(const cv::Mat& in, int frame, const PhotometricParams& params, cv::Mat* out) {
+  if (in.empty()) throw std::invalid_argument("applyIllumination: empty image");
   if (in.type() != CV_8UC1 && in.type() != CV_32FC1)
-    throw std::invalid_argument("applyPhotometric: image must be CV_8UC1 or CV_32FC1 (got type " +
+    throw std::invalid_argument("applyIllumination: image must be CV_8UC1 or CV_32FC1 (got type " +
                                 std::to_string(in.type()) + ")");
   const int w = in.cols, h = in.rows;
   cv::Mat img;
-  in.convertTo(img, CV_32F);
+  in.convertTo(img, CV_32F);  // a copy: `in` may be *out
 
   // Spatial gains (vignetting, spotlight, shadow) multiply into one map.
   cv::Mat gain_map;
@@ -236,6 +236,17 @@ void applyPhotometric(const cv::Mat& in, int frame, const PhotometricParams& par
   } else if (g != 1.0) {
     img *= g;
   }
+  *out = img;
+}
+
+void applyPhotometric(const cv::Mat& in, int frame, const PhotometricParams& params, cv::Mat* out) {
+  if (in.empty()) throw std::invalid_argument("applyPhotometric: empty image");
+  if (in.type() != CV_8UC1 && in.type() != CV_32FC1)
+    throw std::invalid_argument("applyPhotometric: image must be CV_8UC1 or CV_32FC1 (got type " +
+                                std::to_string(in.type()) + ")");
+  const int w = in.cols, h = in.rows;
+  cv::Mat img;
+  applyIllumination(in, frame, params, &img);
 
   for (const PhotometricEvent& e : params.events) {
     if (!e.activeAt(frame) || e.type != PhotometricEventType::kMotionBlur || e.amplitude < 1.0) continue;
