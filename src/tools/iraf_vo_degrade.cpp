@@ -7,64 +7,24 @@
 // other mav0 sensors), writes OUT/mav0/cam0/data.csv + data/*.png and OUT/events.csv. Missing or
 // unreadable images are reported and skipped; a missing dataset exits non-zero.
 #include <iostream>
+#include <limits>
 #include <string>
 
+#include "iraf_vo/pipeline/command_line.h"
 #include "iraf_vo/sim/photometric.h"
 #include "iraf_vo/sim/sequence.h"
 
-namespace {
-void usage(std::ostream& os) {
-  os << "usage: iraf_vo_degrade DIR OUT --profile " << iraf_vo::photometricPresetNames() << " [--seed S]\n"
-        "  DIR: ASL sequence (DIR/mav0/cam0/data.csv + data/), OUT: output folder (same layout)\n";
-}
-}  // namespace
-
 int main(int argc, char** argv) {
   std::string in_dir, out_dir, profile;
-  long seed = 1;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "-h" || a == "--help") {
-      usage(std::cout);
-      return 0;
-    }
-    if (a == "--profile" || a == "--seed") {
-      if (i + 1 >= argc) {
-        std::cerr << "iraf_vo_degrade: " << a << " needs a value\n";
-        return 2;
-      }
-      const std::string v = argv[++i];
-      if (a == "--profile") {
-        profile = v;
-      } else {
-        try {
-          size_t used = 0;
-          seed = std::stol(v, &used);
-          if (used != v.size() || seed < 0) throw std::out_of_range("seed");
-        } catch (const std::exception&) {
-          std::cerr << "iraf_vo_degrade: --seed must be a non-negative integer (got '" << v << "')\n";
-          return 2;
-        }
-      }
-    } else if (!a.empty() && a[0] == '-') {
-      std::cerr << "iraf_vo_degrade: unknown option '" << a << "'\n";
-      usage(std::cerr);
-      return 2;
-    } else if (in_dir.empty()) {
-      in_dir = a;
-    } else if (out_dir.empty()) {
-      out_dir = a;
-    } else {
-      std::cerr << "iraf_vo_degrade: unexpected argument '" << a << "'\n";
-      usage(std::cerr);
-      return 2;
-    }
-  }
-  if (in_dir.empty() || out_dir.empty() || profile.empty()) {
-    std::cerr << "iraf_vo_degrade: DIR, OUT and --profile are required\n";
-    usage(std::cerr);
-    return 2;
-  }
+  int seed = 1;
+  iraf_vo::CommandLine cli("iraf_vo_degrade",
+                           "Applies the simulator's photometric events to a real ASL sequence (same layout in OUT).");
+  cli.positional("DIR", &in_dir, "ASL sequence (DIR/mav0/cam0/data.csv + data/)");
+  cli.positional("OUT", &out_dir, "output folder (same layout)");
+  cli.option("--profile", "P", &profile, std::string(iraf_vo::photometricPresetNames()));
+  cli.option("--seed", "S", &seed, 0, std::numeric_limits<int>::max(), "random seed of the events (default 1)");
+  cli.require("--profile");
+  if (const int code = cli.parse(argc, argv); code >= 0) return code;
   // Count the rows first so the event frame ranges scale with the sequence length.
   std::vector<std::pair<int64_t, std::string>> rows;
   std::string err;
