@@ -31,7 +31,8 @@ bool hasParam(const std::string& section, const std::string& key) {
 
 }  // namespace
 
-CommandLine::CommandLine(std::string tool, std::string summary) : tool_(std::move(tool)), summary_(std::move(summary)) {}
+CommandLine::CommandLine(std::string tool, std::string summary)
+    : tool_(std::move(tool)), summary_(std::move(summary)) {}
 
 void CommandLine::add(Spec s) { specs_.push_back(std::move(s)); }
 

@@ -37,7 +37,8 @@ bool loadPipelineConfig(const std::string& path, PipelineParams* p, std::string*
   } catch (const std::exception& e) {
     return fail(error, path + ": " + e.what());
   }
-  if (!root.IsMap()) return root.IsNull() || fail(error, path + ": expected a YAML map (sections " + pipelineSectionList() + ")");
+  if (!root.IsMap())
+    return root.IsNull() || fail(error, path + ": expected a YAML map (sections " + pipelineSectionList() + ")");
   for (const std::string& section : pipelineSections()) {
     std::string err;
     if (root[section] && !loadPipelineSection(section, root[section], p, &err)) return fail(error, path + ": " + err);

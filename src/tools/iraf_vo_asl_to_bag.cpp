@@ -19,15 +19,17 @@ int main(int argc, char** argv) {
   cli.option("--topic", "T", &opt.topic, "image topic (default " + opt.topic + ")");
   cli.option("--frame-id", "ID", &opt.frame_id, "header frame_id (default " + opt.frame_id + ")");
   cli.option("--camera", "NAME", &opt.camera, "camera folder name (default " + opt.camera + ")");
-  cli.option("--compression", "C", &opt.compression, "rosbag chunk compression none | bz2 | lz4 (independent of --compressed)");
+  cli.option("--compression", "C", &opt.compression,
+             "rosbag chunk compression none | bz2 | lz4 (independent of --compressed)");
   cli.optionalValue("--compressed", "png|jpeg", &image_format, "png",
                     "sensor_msgs/CompressedImage on TOPIC/compressed (png = lossless, default; or jpeg)");
-  cli.option("--jpeg-quality", "Q", &opt.jpeg_quality, 1, 100, "JPEG quality (default " + std::to_string(opt.jpeg_quality) + ")");
+  cli.option("--jpeg-quality", "Q", &opt.jpeg_quality, 1, 100,
+             "JPEG quality (default " + std::to_string(opt.jpeg_quality) + ")");
   if (const int code = cli.parse(argc, argv); code >= 0) return code;
   if (!image_format.empty()) {
     if (image_format != "png" && image_format != "jpeg") {
-      std::fprintf(stderr, "iraf_vo_asl_to_bag: --compressed=%s: expected --compressed, --compressed=png or --compressed=jpeg\n",
-                   image_format.c_str());
+      std::fprintf(stderr, "iraf_vo_asl_to_bag: --compressed=%s: expected --compressed, --compressed=png or "
+                   "--compressed=jpeg\n", image_format.c_str());
       return 2;
     }
     opt.image_format = image_format;

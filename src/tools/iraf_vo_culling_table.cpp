@@ -47,7 +47,8 @@ int main(int argc, char** argv) {
   cli.option("--first", "N", &first_arg, 0, std::numeric_limits<int>::max(), "first frame (default 0)");
   cli.option("--frames", "N", &frames_arg, 0, std::numeric_limits<int>::max(), "frames to run (default: all)");
   cli.option("--bins", "B", &bins, 1, 1000, "bins of S in [0, 1] (default 10)");
-  cli.option("--csv", "FILE", &csv_path, "one row per keypoint: frame,octave,response,threshold,density,contrast,S,inlier");
+  cli.option("--csv", "FILE", &csv_path,
+             "one row per keypoint: frame,octave,response,threshold,density,contrast,S,inlier");
   cli.flag("--no-enhance", &enhance, "enhance.method none", false);
   cli.flag("--apply-culling", &apply_culling, "culling on as configured: only the kept keypoints reach the tracker");
   cli.stageParams({"enhance", "features", "tracker"});

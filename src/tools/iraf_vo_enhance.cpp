@@ -40,7 +40,8 @@ int main(int argc, char** argv) {
   CommandLine cli("iraf_vo_enhance",
                   "Runs the enhancement stage on one image or a folder of images and writes OUTPUT_DIR/<name>.png.\n"
                   "Missing / unreadable images are reported and skipped; exit code 1 if any was skipped.");
-  cli.positional("INPUT", &input_arg, "image file, folder of images, or ASL folder (images listed in mav0/cam0/data.csv)");
+  cli.positional("INPUT", &input_arg,
+                 "image file, folder of images, or ASL folder (images listed in mav0/cam0/data.csv)");
   cli.positional("OUTPUT_DIR", &output, "where the enhanced images go (not needed with --no-write)", false);
   cli.option("--method", "M", &method, "iraf | he | clahe | none (= --set enhance.method=M)");
   cli.option("--threads", "N", &threads, 0, 256, "OpenCV threads (default 1)");

@@ -25,9 +25,11 @@ int main(int argc, char** argv) {
   cli.option("--rpe-delta", "D", &params.rpe_delta, 1e-9, 1e9,
              "RPE step in seconds (default 1.0), or in frames with --rpe-frames");
   cli.flag("--rpe-frames", &params.rpe_delta_frames, "--rpe-delta counts frames");
-  cli.option("--csv", "errors.csv", &csv, "per-pose errors: t,error,est_x,est_y,est_z,gt_x,gt_y,gt_z (aligned estimate)");
+  cli.option("--csv", "errors.csv", &csv,
+             "per-pose errors: t,error,est_x,est_y,est_z,gt_x,gt_y,gt_z (aligned estimate)");
   cli.option("--json", "out.json", &json, "summary numbers as JSON");
-  cli.option("--camera", "sensor.yaml", &camera, "camera yaml whose T_BS turns EuRoC body ground truth into camera poses");
+  cli.option("--camera", "sensor.yaml", &camera,
+             "camera yaml whose T_BS turns EuRoC body ground truth into camera poses");
   if (const int code = cli.parse(argc, argv); code >= 0) return code;
   if (!align.empty() && !iraf_vo::parseAlignMode(align, &params.align)) {
     std::fprintf(stderr, "iraf_vo_eval: --align '%s': expected sim3, se3 or none\n", align.c_str());

@@ -35,9 +35,11 @@ int parseArgs(int argc, char** argv, Args* a, iraf_vo::PipelineParams* p) {
   iraf_vo::CommandLine cli(
       "iraf_vo_run",
       "Offline monocular VO on an ASL folder or a rosbag: writes the TUM trajectory and prints a summary.");
-  cli.option("--dataset", "DIR_OR_BAG", &a->dataset, "ASL folder (DIR/mav0/cam0/data.csv) or a rosbag (.bag, needs --topic)");
+  cli.option("--dataset", "DIR_OR_BAG", &a->dataset,
+             "ASL folder (DIR/mav0/cam0/data.csv) or a rosbag (.bag, needs --topic)");
   cli.option("--topic", "T", &a->topic, "image topic of a bag");
-  cli.option("--camera", "sensor.yaml", &a->camera_path, "camera yaml (default: the ASL folder's mav0/cam0/sensor.yaml)");
+  cli.option("--camera", "sensor.yaml", &a->camera_path,
+             "camera yaml (default: the ASL folder's mav0/cam0/sensor.yaml)");
   cli.option("--out", "traj.txt", &a->out, "TUM trajectory of every tracked frame, as published at each frame");
   cli.option("--mode", "M", &a->mode,
              "iraf = enhancement + adaptive threshold + culling (default); baseline = all off;\n"
