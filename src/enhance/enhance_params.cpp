@@ -1,25 +1,18 @@
 #include "iraf_vo/enhance/enhance_params.h"
 
+#include "iraf_vo/common/enum_names.h"
+
 namespace iraf_vo {
 
-const char* toString(EnhanceMethod m) {
-  switch (m) {
-    case EnhanceMethod::kNone: return "none";
-    case EnhanceMethod::kHe: return "he";
-    case EnhanceMethod::kClahe: return "clahe";
-    default: return "iraf";
-  }
-}
+namespace {
+constexpr EnumName<EnhanceMethod> kMethodNames[] = {
+    {EnhanceMethod::kNone, "none"}, {EnhanceMethod::kIraf, "iraf"}, {EnhanceMethod::kHe, "he"},
+    {EnhanceMethod::kClahe, "clahe"}};
+}  // namespace
 
-bool parseEnhanceMethod(const std::string& s, EnhanceMethod* m) {
-  for (EnhanceMethod c : {EnhanceMethod::kNone, EnhanceMethod::kIraf, EnhanceMethod::kHe, EnhanceMethod::kClahe}) {
-    if (s == toString(c)) {
-      *m = c;
-      return true;
-    }
-  }
-  return false;
-}
+const char* toString(EnhanceMethod m) { return nameOf(kMethodNames, m, "iraf"); }
+
+bool parseEnhanceMethod(const std::string& s, EnhanceMethod* m) { return parseName(kMethodNames, s, m); }
 
 const ParamTable<EnhanceParams>& enhanceParamTable() {
   using P = EnhanceParams;

@@ -7,17 +7,17 @@
 #include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "iraf_vo/common/enum_names.h"
 #include "iraf_vo/common/wall_clock.h"
 
 namespace iraf_vo {
 
-const char* toString(BrightnessClass c) {
-  switch (c) {
-    case BrightnessClass::kDim: return "dim";
-    case BrightnessClass::kBright: return "bright";
-    default: return "normal";
-  }
-}
+namespace {
+constexpr EnumName<BrightnessClass> kBrightnessNames[] = {
+    {BrightnessClass::kDim, "dim"}, {BrightnessClass::kNormal, "normal"}, {BrightnessClass::kBright, "bright"}};
+}  // namespace
+
+const char* toString(BrightnessClass c) { return nameOf(kBrightnessNames, c, "normal"); }
 
 std::array<double, 256> histogram256(const cv::Mat& gray) {
   CV_Assert(gray.type() == CV_8UC1);

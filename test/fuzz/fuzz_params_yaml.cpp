@@ -1,4 +1,4 @@
-// libFuzzer target: bytes -> YAML -> loadEnhanceParams / loadFeatureParams / loadTrackerParams (the params
+// libFuzzer target: bytes -> YAML -> the enhance / features / tracker ParamTable::load (the params
 // files of iraf_vo_enhance / iraf_vo_run). A load that succeeds must give params that validate(); a load that
 // fails must say why. Never throw (apart from YAML::Load's own parse errors, which callers catch) or crash.
 // Built and run by scripts/fuzz.sh.
