@@ -1,11 +1,14 @@
-// Parameters of the tracking / mapping back-end (ROS-free).
+// Parameters of the tracking / mapping back-end: the struct (its initializers are the defaults) and its parameter
+// table (common/param_table.h): names = field names = cfg/Tracker.cfg parameters = YAML `tracker:` keys =
+// `--set tracker.key=value` = the tracker nodelet's private parameters. ROS-free.
 #pragma once
 
 #include <string>
 
+#include "iraf_vo/common/param_table.h"
+
 namespace iraf_vo {
 
-/// Field names = the parameters of cfg/Tracker.cfg and the YAML `tracker:` section.
 struct TrackerParams {
   // ---- initialization ----
   int init_min_features = 100;          // a reference frame needs at least this many keypoints
@@ -100,7 +103,10 @@ struct TrackerParams {
   double health_max_ba_scale_change = 1.5; // local BA may change the window's extent by at most this factor
 };
 
-/// Returns a message naming the bad field, or "" when usable.
+/// Every TrackerParams field with its accepted range and doc.
+const ParamTable<TrackerParams>& trackerParamTable();
+
+/// Returns a message naming each field out of its table range and each broken cross-field rule, or "" when usable.
 std::string validate(const TrackerParams& p);
 
 }  // namespace iraf_vo
