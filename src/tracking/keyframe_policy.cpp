@@ -1,4 +1,4 @@
-#include <iraf_vo/tracking/keyframe_policy.h>
+#include "iraf_vo/tracking/keyframe_policy.h"
 
 namespace iraf_vo {
 

@@ -1,6 +1,10 @@
-#include <iraf_vo/tracking/local_mapper.h>
+#include "iraf_vo/tracking/local_mapper.h"
 
-#include <iraf_vo/common/cpu_clock.h>
+#include "iraf_vo/common/cpu_clock.h"
+#include "iraf_vo/tracking/bundle_adjustment.h"
+#include "iraf_vo/tracking/local_ba.h"
+#include "iraf_vo/tracking/map_fusion.h"
+#include "iraf_vo/tracking/multiview.h"
 
 #include <algorithm>
 #include <cmath>
@@ -119,7 +123,7 @@ bool LocalMapper::commitPendingBA() {
     std::lock_guard<std::mutex> lk(queue_mutex_);
     done.swap(pending_ba_);
   }
-  if (done) map_->applyLocalBA(done->problem, done->summary);
+  if (done) applyLocalBA(done->problem, done->summary, map_);
   return done != nullptr;
 }
 
@@ -169,16 +173,16 @@ void LocalMapper::createNewMapPoints(long kf_id) {
 void LocalMapper::fuseMapPoints(long kf_id) {
   if (p_.fuse_neighbors <= 0) return;
   std::vector<FusionLink> links;
-  for (const FusionTarget& t : map_->fusionTargets(kf_id, p_.fuse_neighbors, p_.predict_scale ? &cam_ : nullptr)) {
+  for (const FusionTarget& t : fusionTargets(*map_, kf_id, p_.fuse_neighbors, p_.predict_scale ? &cam_ : nullptr)) {
     const std::vector<FusionLink> l = matcher_.searchForFusion(t, p_.fuse_radius_px);
     links.insert(links.end(), l.begin(), l.end());
   }
-  map_->fuse(links);
+  applyFusion(links, map_);
 }
 
 void LocalMapper::localBundleAdjustment() {
   const double cpu0 = threadCpuMs();
-  LocalBAProblem prob = map_->localBAProblem(p_.ba_window_size, p_.ba_min_fixed_span);
+  LocalBAProblem prob = buildLocalBAProblem(*map_, p_.ba_window_size, p_.ba_min_fixed_span);
   if (prob.observations.empty()) return;
   BAOptions options;
   options.max_num_iterations = p_.ba_max_num_iterations;
@@ -210,7 +214,7 @@ void LocalMapper::localBundleAdjustment() {
     return;
   }
   auto update = map_->lockUpdates();
-  map_->applyLocalBA(prob, summary);
+  applyLocalBA(prob, summary, map_);
 }
 
 void LocalMapper::recordScaleChange(double extent_before, const LocalBAProblem& after) {

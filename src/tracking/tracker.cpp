@@ -1,15 +1,16 @@
 // The tracker's state machine (tracking thread): initialization -> tracking -> lost -> relocalization or
 // reset. It owns the map, the local mapper, the initializer and the pose tracker and coordinates them
 // (see tracker.h for the whole algorithm).
-#include <iraf_vo/common/wall_clock.h>
-#include <iraf_vo/tracking/tracker.h>
+#include "iraf_vo/tracking/tracker.h"
 
-#include <iraf_vo/tracking/health_monitor.h>
-#include <iraf_vo/tracking/keyframe_policy.h>
-#include <iraf_vo/tracking/local_mapper.h>
-#include <iraf_vo/tracking/map.h>
-#include <iraf_vo/tracking/map_initializer.h>
-#include <iraf_vo/tracking/pose_tracker.h>
+#include "iraf_vo/common/wall_clock.h"
+#include "iraf_vo/tracking/health_monitor.h"
+#include "iraf_vo/tracking/keyframe_policy.h"
+#include "iraf_vo/tracking/local_mapper.h"
+#include "iraf_vo/tracking/map.h"
+#include "iraf_vo/tracking/map_initializer.h"
+#include "iraf_vo/tracking/pose_covariance.h"
+#include "iraf_vo/tracking/pose_tracker.h"
 
 #include <algorithm>
 #include <atomic>

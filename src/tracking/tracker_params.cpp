@@ -1,4 +1,4 @@
-#include <iraf_vo/tracking/tracker_params.h>
+#include "iraf_vo/tracking/tracker_params.h"
 
 #include <cmath>
 #include <utility>

@@ -1,4 +1,4 @@
-#include <iraf_vo/tracking/tracker_params_io.h>
+#include "iraf_vo/tracking/tracker_params_io.h"
 
 namespace iraf_vo {
 

@@ -1,14 +1,13 @@
 // Unit tests of the tracker's role classes on hand-built maps: keyframe policy, map-point culling, the
 // local BA window and its monocular gauge, bounded map size, and the local mapper's thread lifecycle.
-#include <iraf_vo/tracking/keyframe_policy.h>
-#include <iraf_vo/tracking/local_ba.h>
-#include <iraf_vo/tracking/local_mapper.h>
-#include <iraf_vo/tracking/map.h>
-#include <iraf_vo/tracking/matcher.h>
+#include "iraf_vo/tracking/keyframe_policy.h"
+#include "iraf_vo/tracking/local_ba.h"
+#include "iraf_vo/tracking/local_mapper.h"
+#include "iraf_vo/tracking/map.h"
+#include "iraf_vo/tracking/matcher.h"
+#include "unit/tracking_test_utils.h"
 
 #include <gtest/gtest.h>
-
-#include "unit/tracking_test_utils.h"
 
 #include <chrono>
 #include <future>
@@ -121,7 +120,7 @@ TEST(LocalBA, GaugeFixesOldestUntilTwoFixedAndSpanHolds) {
 
 TEST(LocalBA, WindowIsTheNewestKeyframesWithOutsideObserversFixed) {
   HandBuiltMap hb(40, 4);  // 6 keyframes, every one observes all 40 points
-  const LocalBAProblem prob = hb.map.localBAProblem(3, 0.3);
+  const LocalBAProblem prob = buildLocalBAProblem(hb.map, 3, 0.3);
   ASSERT_EQ(prob.window_size, 3);
   ASSERT_EQ(prob.keyframe_ids.size(), 6u);
   EXPECT_EQ(prob.keyframe_ids[0], hb.kf_ids.back()) << "newest first";
@@ -131,7 +130,7 @@ TEST(LocalBA, WindowIsTheNewestKeyframesWithOutsideObserversFixed) {
   EXPECT_EQ(prob.observations.size(), 40u * 6u);
   EXPECT_EQ(prob.scale_anchor, -1) << "anchored by keyframes outside the window";
   // A window covering the whole map: only its oldest keyframe is fixed, the scale is held about it.
-  const LocalBAProblem all = hb.map.localBAProblem(10, 0.3);
+  const LocalBAProblem all = buildLocalBAProblem(hb.map, 10, 0.3);
   EXPECT_EQ(all.window_size, 6);
   int fixed = 0;
   for (const auto& k : all.keyframes) fixed += k.fixed;
@@ -208,13 +207,13 @@ TEST(LocalBA, YoungMapCorrectsTheInitialBaselineAndHoldsItsScale) {
 
 TEST(LocalBA, OutlierObservationsAreRemovedAndPosesWrittenBack) {
   HandBuiltMap hb(20, 1);
-  LocalBAProblem prob = hb.map.localBAProblem(2, 0.0);
+  LocalBAProblem prob = buildLocalBAProblem(hb.map, 2, 0.0);
   BASummary summary;
   summary.outlier.assign(prob.observations.size(), 0);
   summary.outlier[0] = 1;
   const long pid = prob.point_ids[prob.observations[0].point];
   prob.points[prob.observations[0].point].p_w = Eigen::Vector3d(7, 7, 7);
-  hb.map.applyLocalBA(prob, summary);
+  applyLocalBA(prob, summary, &hb.map);
   bool found = false;
   for (const auto& p : hb.map.pointPositions()) found |= p.isApprox(Eigen::Vector3d(7, 7, 7));
   EXPECT_TRUE(found) << "optimized point written back";
@@ -226,7 +225,7 @@ TEST(LocalBA, OutlierObservationsAreRemovedAndPosesWrittenBack) {
 // poses by > 10 px and the next BAs shrank the monocular scale (issue 11 step 5).
 TEST(LocalBA, KeyframesAndPointsAddedWhileBARanFollowTheCorrection) {
   HandBuiltMap hb(20, 2);  // keyframes 0..3
-  LocalBAProblem prob = hb.map.localBAProblem(2, 0.0);
+  LocalBAProblem prob = buildLocalBAProblem(hb.map, 2, 0.0);
   ASSERT_EQ(prob.keyframe_ids[0], hb.kf_ids.back());
   ASSERT_FALSE(prob.keyframes[0].fixed);
   // Meanwhile: two new keyframes and a point triangulated between them (pre-BA poses).
@@ -245,7 +244,7 @@ TEST(LocalBA, KeyframesAndPointsAddedWhileBARanFollowTheCorrection) {
   prob.keyframes[0].T_c_w = T_opt;
   BASummary summary;
   summary.outlier.assign(prob.observations.size(), 0);
-  hb.map.applyLocalBA(prob, summary);
+  applyLocalBA(prob, summary, &hb.map);
   Eigen::Isometry3d T_new_after, T_newest_after;
   ASSERT_TRUE(hb.map.keyframePose(kf_new, &T_new_after));
   ASSERT_TRUE(hb.map.keyframePose(hb.kf_ids.back(), &T_newest_after));
@@ -355,15 +354,18 @@ TEST(LocalMapperTest, DeferredCommitWritesBAOnlyAtTheNextKeyframe) {
   // Disturb the newest keyframe so that BA moves it.
   {
     auto lk = hb.map.lockUpdates();
-    hb.map.applyLocalBA([&] {
-      LocalBAProblem prob = hb.map.localBAProblem(1, 0.0);
-      prob.keyframes[0].T_c_w.translation() += Eigen::Vector3d(0.02, 0.0, 0.0);
-      return prob;
-    }(), [&] {
-      BASummary s;
-      s.outlier.assign(hb.map.localBAProblem(1, 0.0).observations.size(), 0);
-      return s;
-    }());
+    applyLocalBA(
+        [&] {
+          LocalBAProblem prob = buildLocalBAProblem(hb.map, 1, 0.0);
+          prob.keyframes[0].T_c_w.translation() += Eigen::Vector3d(0.02, 0.0, 0.0);
+          return prob;
+        }(),
+        [&] {
+          BASummary s;
+          s.outlier.assign(buildLocalBAProblem(hb.map, 1, 0.0).observations.size(), 0);
+          return s;
+        }(),
+        &hb.map);
   }
   Eigen::Isometry3d T_disturbed;
   ASSERT_TRUE(hb.map.keyframePose(hb.kf_ids.back(), &T_disturbed));

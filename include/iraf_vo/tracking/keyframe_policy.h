@@ -8,7 +8,7 @@
 //   (c) frames since the last keyframe >= max_frames_between_keyframes AND inliers < 0.98 * reference
 #pragma once
 
-#include <iraf_vo/tracking/tracker_params.h>
+#include "iraf_vo/tracking/tracker_params.h"
 
 namespace iraf_vo {
 

@@ -16,10 +16,11 @@
 //   merged under the map mutex; observations failing chi2 afterwards are removed.
 #pragma once
 
-#include <iraf_vo/camera/camera_model.h>
-#include <iraf_vo/tracking/map.h>
-#include <iraf_vo/tracking/matcher.h>
-#include <iraf_vo/tracking/tracker_params.h>
+#include "iraf_vo/camera/camera_model.h"
+#include "iraf_vo/tracking/local_ba.h"
+#include "iraf_vo/tracking/map.h"
+#include "iraf_vo/tracking/matcher.h"
+#include "iraf_vo/tracking/tracker_params.h"
 
 #include <atomic>
 #include <condition_variable>

@@ -31,13 +31,14 @@
 //   trajectory with resets therefore includes these scale/offset jumps.
 #pragma once
 
-#include <iraf_vo/camera/camera_model.h>
-#include <iraf_vo/features/feature_frame.h>
-#include <iraf_vo/tracking/map.h>
-#include <iraf_vo/tracking/tracker_params.h>
+#include "iraf_vo/camera/camera_model.h"
+#include "iraf_vo/features/feature_frame.h"
+#include "iraf_vo/tracking/map.h"
+#include "iraf_vo/tracking/tracker_params.h"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+
 #include <memory>
 #include <string>
 #include <vector>

@@ -2,8 +2,8 @@
 // YAML `tracker:` keys = `--set tracker.key=value` = the tracker nodelet's private parameters. ROS-free.
 #pragma once
 
-#include <iraf_vo/common/param_table.h>
-#include <iraf_vo/tracking/tracker_params.h>
+#include "iraf_vo/common/param_table.h"
+#include "iraf_vo/tracking/tracker_params.h"
 
 #include <string>
 #include <vector>
