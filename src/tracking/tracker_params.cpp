@@ -58,9 +58,7 @@ std::string validate(const TrackerParams& p) {
   if (p.ba_max_num_iterations < 0) return bad("ba_max_num_iterations", "must be >= 0");
   if (!(p.ba_max_solver_time_in_seconds > 0)) return bad("ba_max_solver_time_in_seconds", "must be > 0");
   if (!(p.ba_huber_delta > 0)) return bad("ba_huber_delta", "must be > 0");
-  if (p.starving_inliers < 0) return bad("starving_inliers", "must be >= 0");
-  if (p.ba_commit_frames < 0) return bad("ba_commit_frames", "must be >= 0");
-  if (p.sync_mapping_busy_frames < 0) return bad("sync_mapping_busy_frames", "must be >= 0");
+  if (p.mapping_busy_frames < 0) return bad("mapping_busy_frames", "must be >= 0");
   if (p.lost_frames_before_reset < 0) return bad("lost_frames_before_reset", "must be >= 0");
   if (!(p.health_min_inlier_ratio >= 0 && p.health_min_inlier_ratio <= 1)) return bad("health_min_inlier_ratio", "must be in [0, 1]");
   if (!(p.health_max_median_chi2 > 0 && std::isfinite(p.health_max_median_chi2))) return bad("health_max_median_chi2", "must be > 0 and finite");

@@ -45,7 +45,7 @@ struct Keyframe {
   std::vector<char> valid;
   // guarded by the map mutex:
   std::vector<long> point_id;
-  std::atomic<bool> triangulated{false};  // new points created already (by the mapping thread or a starving tracker)
+  std::atomic<bool> triangulated{false};  // new points created already (LocalMapper::createNewMapPoints)
 
   /// A keyframe with the frame's keypoints and no observations yet (id assigned by the map).
   static std::shared_ptr<Keyframe> fromFrame(const Frame& f, const Eigen::Isometry3d& T_c_w);
@@ -135,9 +135,10 @@ class Map {
 
   // ---- tracking thread ----
   /// The map-update lock (ORB-SLAM's mMutexMapUpdate): the tracking thread holds it over one frame (pose from
-  /// the map's points, keyframe creation, starving triangulation, the last frame's pose relative to its
-  /// keyframe) and applyLocalBA takes it, so BA results never land in the middle of a tracking step. Never
-  /// held while waiting for the local mapper (back-pressure, synchronous mapping, reset).
+  /// the map's points, keyframe creation and mapping, the last frame's pose relative to its keyframe) and
+  /// writes BA results back either under it (threaded mapping, at the next keyframe) or takes it for that
+  /// (synchronous mapping, after the tracking step), so BA results never land in the middle of a tracking step.
+  /// The mapping thread never takes it.
   std::unique_lock<std::mutex> lockUpdates() { return std::unique_lock<std::mutex>(update_mutex_); }
   /// With a camera, each point's scale-prediction reference too (LocalPoint::ref_*; predictOctave), else none.
   std::vector<LocalPoint> localPoints(const CameraModel* camera = nullptr) const;
