@@ -364,12 +364,20 @@ TEST(LocalMapperTest, ThreadedBAIsWrittenBackOnlyAtTheNextKeyframe) {
     ASSERT_TRUE(hb.map.keyframePose(hb.kf_ids.back(), &T_after_ba));
     EXPECT_EQ(T_after_ba.isApprox(T_disturbed, 1e-12), threaded)
         << "threaded: not written back by the thread; synchronous: written back at once";
-    if (!threaded) continue;
+    // The health monitor's scale-change input follows the write-back, not the end of the BA: otherwise the
+    // frame that sees it (and may be rejected for it) depends on when the thread finishes.
+    const double change_after_ba = mapper.takeScaleChange();
+    if (!threaded) {
+      EXPECT_NE(change_after_ba, 1.0) << "synchronous: the BA's scale change is reported at once";
+      continue;
+    }
+    EXPECT_EQ(change_after_ba, 1.0) << "threaded: BA result not written back yet, no scale change to report";
     auto lk = hb.map.lockUpdates();
     mapper.addKeyframe(gridFrame(60, 30, 0.8));
     Eigen::Isometry3d T_committed;
     ASSERT_TRUE(hb.map.keyframePose(hb.kf_ids.back(), &T_committed));
     EXPECT_FALSE(T_committed.isApprox(T_disturbed, 1e-9)) << "BA result written back at the next keyframe";
+    EXPECT_NE(mapper.takeScaleChange(), 1.0) << "its scale change reported with it";
   }
 }
 
