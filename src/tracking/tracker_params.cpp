@@ -1,4 +1,4 @@
-#include <iraf_vo/tracking/tracker_params.h>
+#include "iraf_vo/tracking/tracker_params.h"
 
 namespace iraf_vo {
 
@@ -78,17 +78,8 @@ const ParamTable<TrackerParams>& trackerParamTable() {
           intParam("max_frames_between_keyframes", &P::max_frames_between_keyframes, 1, 1000,
                    "Keyframe timeout [frames]"),
           boolParam("mapping_thread", &P::mapping_thread,
-                    "Local mapping + BA on its own thread (false: synchronous, deterministic)"),
-          intParam("starving_inliers", &P::starving_inliers, 0, 10000,
-                   "Keyframe with fewer inliers: the tracking thread triangulates its new points itself (never waits "
-                   "for BA)"),
-          boolParam("triangulate_in_tracking", &P::triangulate_in_tracking,
-                    "mapping_thread on: the tracking thread triangulates every new keyframe (else only when starving)"),
-          boolParam("ba_deferred_commit", &P::ba_deferred_commit,
-                    "mapping_thread on: BA results are written back at the next keyframe (reproducible threaded runs)"),
-          intParam("ba_commit_frames", &P::ba_commit_frames, 0, 100,
-                   "ba_deferred_commit: a keyframe's BA is written back this many frames after it, waiting for it (0 = at the next keyframe)"),
-          intParam("sync_mapping_busy_frames", &P::sync_mapping_busy_frames, 0, 100,
+                    "Mapping mode: BA on its own thread, written back at the next keyframe (false: inside track()); both deterministic"),
+          intParam("mapping_busy_frames", &P::mapping_busy_frames, 0, 100,
                    "Keyframe rule: mapping counts as busy this many frames after a keyframe (both mapping modes)"),
           intParam("num_triangulation_neighbors", &P::num_triangulation_neighbors, 1, 50,
                    "Covisible keyframes used for new points"),
@@ -106,14 +97,8 @@ const ParamTable<TrackerParams>& trackerParamTable() {
           intParam("ba_max_num_iterations", &P::ba_max_num_iterations, 0, 200, "Levenberg-Marquardt iterations per BA"),
           doubleParam("ba_max_solver_time_in_seconds", &P::ba_max_solver_time_in_seconds, 0.001, 10.0,
                       "BA budget per run [s of the mapping thread's CPU time]"),
-          intParam("max_pending_keyframes", &P::max_pending_keyframes, 0, 100,
-                   "Keyframe queue bound: inserting waits while this many are queued (0 = unbounded)"),
-          intParam("ba_every_keyframes", &P::ba_every_keyframes, 1, 100,
-                   "BA at least every this many keyframes even when more are queued"),
           doubleParam("ba_min_fixed_span", &P::ba_min_fixed_span, 0.0, 1.0,
                       "Gauge: fixed keyframe centres must span this fraction of the window extent"),
-          boolParam("ba_abort_on_keyframe", &P::ba_abort_on_keyframe,
-                    "A queued keyframe aborts a running BA (ORB-SLAM); off: BA runs to its budget"),
           doubleParam("ba_huber_delta", &P::ba_huber_delta, 0.1, 100.0,
                       "Huber threshold on the sigma-normalized residual (sqrt(5.991))"),
           boolParam("ba_use_ceres", &P::ba_use_ceres,

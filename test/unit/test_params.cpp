@@ -223,7 +223,7 @@ TEST(ParamValidation, EveryRowRejectsValuesOutsideItsRange) {
 }
 
 // The messages, spelled out: the parameter, its range, the value. Values the hand-written checks accepted
-// (n_features 20, rho -1, ba_every_keyframes 0) are outside the table ranges and now rejected.
+// (n_features 20, rho -1) are outside the table ranges and now rejected.
 TEST(ParamValidation, MessagesNameTheParameterAndItsRange) {
   EnhanceParams e;
   e.gaussian_kernel_size = 4;
@@ -234,11 +234,11 @@ TEST(ParamValidation, MessagesNameTheParameterAndItsRange) {
   f.rho = -1;
   EXPECT_EQ(validate(f), "n_features must be in [50, 10000] (got 20); rho must be in [0, 10] (got -1)");
   TrackerParams t;
-  t.ba_every_keyframes = 0;
-  EXPECT_EQ(validate(t), "ba_every_keyframes must be in [1, 100] (got 0)");
+  t.ba_window_size = 1;
+  EXPECT_EQ(validate(t), "ba_window_size must be in [2, 100] (got 1)");
   std::string err;
   EXPECT_FALSE(trackerParamTable().validateInto(t, &err));
-  EXPECT_EQ(err, "invalid tracker parameters: ba_every_keyframes must be in [1, 100] (got 0)");
+  EXPECT_EQ(err, "invalid tracker parameters: ba_window_size must be in [2, 100] (got 1)");
 }
 
 TEST(ParamValidation, TrackerCrossFieldRules) {

@@ -51,21 +51,11 @@ struct TrackerParams {
   int min_frames_between_keyframes = 0;
   int max_frames_between_keyframes = 20;
   // ---- local mapping ----
-  bool mapping_thread = true;           // false: mapping runs synchronously inside track() (deterministic)
-  int starving_inliers = 60;            // keyframe inserted with fewer inliers: track() triangulates its new points
-                                        // itself (the mapping thread may be busy); never waits for BA
-  bool triangulate_in_tracking = true;  // mapping_thread = true: track() triangulates every new keyframe's points
-                                        // (as synchronous mapping does; the mapping thread culls, updates
-                                        // descriptors and runs BA); false: only below starving_inliers
-  bool ba_deferred_commit = true;       // mapping_thread = true: the mapping thread only runs BA; the tracking
-                                        // thread writes its result back at the next keyframe (waiting for it) and
-                                        // culls / triangulates itself: results independent of thread timing
-  int ba_commit_frames = 0;             // ba_deferred_commit: the BA started at a keyframe is written back this many
-                                        // frames after it (the tracker waits for it there: still reproducible) or at
-                                        // the next keyframe, whichever comes first; 0 = at the next keyframe
-  int sync_mapping_busy_frames = 3;     // the keyframe policy treats mapping as busy for this many frames after a
-                                        // keyframe (synchronous and threaded mapping: the threaded mapper's real
-                                        // state made the keyframes depend on the machine's load)
+  bool mapping_thread = true;           // the mapping mode (local_mapper.h): BA on the mapping thread, written back
+                                        // at the next keyframe; false: BA inside track(). Both deterministic.
+  int mapping_busy_frames = 3;          // the keyframe policy treats mapping as busy for this many frames after a
+                                        // keyframe (both modes: the threaded mapper's real state made the
+                                        // keyframes depend on the machine's load)
   int num_triangulation_neighbors = 6;
   double min_triangulation_parallax_deg = 1.0;
   double min_found_ratio = 0.25;
@@ -84,13 +74,7 @@ struct TrackerParams {
   double ba_huber_delta = 2.447;        // sqrt(5.991) on the sigma-normalized residual
   bool ba_use_ceres = false;            // every BA (initialization and local) with ceres::Solve instead of the equivalent Schur-complement
                                         // LM (schur_lm.h; same steps, ~3x less CPU)
-  int max_pending_keyframes = 2;        // keyframe queue bound: inserting waits while this many are queued
-                                        // (only under CPU overload; 0 = unbounded)
-  int ba_every_keyframes = 2;           // BA at least every this many keyframes even if more are queued
   double ba_min_fixed_span = 0.3;       // gauge: fixed keyframe centres must span >= this fraction of the window
-  bool ba_abort_on_keyframe = false;    // true: a queued keyframe aborts a running BA (ORB-SLAM); false: BA runs
-                                        // to its iteration / time budget (keyframes queued meanwhile are
-                                        // triangulated afterwards, BA once for the batch)
   // ---- loss ----
   int lost_frames_before_reset = 2;
   // ---- health monitor (health_monitor.h): a pose that fails a check is reported LOST, never TRACKING ----
