@@ -1,5 +1,6 @@
 // Parameter tables (common/param_table.h): per stage, cfg/<Stage>.cfg == table == struct defaults; validation from
-// the table's ranges; the table's text / YAML loading. The cfg files are parsed as text (the generator's gen.add(...) / group.add(...) lines).
+// the table's ranges; the table's text / YAML loading; docs/parameters.md, generated from the tables
+// (pipeline/parameter_docs.h), equals the committed file so that it cannot go stale. The cfg files are parsed as text (the generator's gen.add(...) / group.add(...) lines).
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
@@ -14,6 +15,8 @@
 
 #include "iraf_vo/enhance/enhance_params.h"
 #include "iraf_vo/features/feature_params.h"
+#include "iraf_vo/pipeline/parameter_docs.h"
+#include "iraf_vo/pipeline/pipeline_params.h"
 #include "iraf_vo/tracking/tracker_params.h"
 
 using namespace iraf_vo;
@@ -247,4 +250,34 @@ TEST(ParamValidation, TrackerCrossFieldRules) {
   EXPECT_EQ(validate(t), "max_map_keyframes must be >= ba_window_size (got 25 < 30)");
   t.max_map_keyframes = 30;
   EXPECT_EQ(validate(t), "");
+}
+
+TEST(ParameterDocs, CommittedFileEqualsTheTables) {
+  const std::string path = std::string(IRAF_VO_SOURCE_DIR) + "/docs/parameters.md";
+  std::ifstream f(path);
+  ASSERT_TRUE(f.good()) << path << " is missing: generate it with `" << iraf_vo::kParameterDocsCommand << "`";
+  std::stringstream committed;
+  committed << f.rdbuf();
+  EXPECT_TRUE(committed.str() == iraf_vo::parameterDocsMarkdown())
+      << "docs/parameters.md differs from the parameter tables: regenerate it from the source root with\n  "
+      << iraf_vo::kParameterDocsCommand;
+}
+
+TEST(ParameterDocs, EveryParameterHasARowWithItsDefaultAndRange) {
+  const std::string md = iraf_vo::parameterDocsMarkdown();
+  const iraf_vo::PipelineParams defaults;
+  iraf_vo::forEachStage(defaults, [&md](const auto& table, const auto& stage) {
+    EXPECT_NE(md.find("\n## " + table.section() + "\n"), std::string::npos) << table.section();
+    for (const auto& e : table.entries()) {
+      const std::string row = "| `" + e.name + "` | ";
+      const size_t at = md.find(row);
+      ASSERT_NE(at, std::string::npos) << e.name;
+      const std::string line = md.substr(at, md.find('\n', at) - at);
+      EXPECT_NE(line.find("`" + table.get(stage, e) + "`"), std::string::npos) << line;
+      if (e.type == iraf_vo::ParamType::kInt || e.type == iraf_vo::ParamType::kDouble) {
+        const std::string range = "[" + iraf_vo::formatDouble(e.min) + ", " + iraf_vo::formatDouble(e.max) + "]";
+        EXPECT_NE(line.find(range), std::string::npos) << line;
+      }
+    }
+  });
 }
