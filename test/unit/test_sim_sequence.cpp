@@ -51,14 +51,19 @@ std::string slurp(const std::string& path) {
   return ss.str();
 }
 
+/// The default room with procedural textures at 64 texels/m.
+std::shared_ptr<const iraf_vo::Scene> smallRoom() {
+  iraf_vo::SceneParams sp;
+  sp.texels_per_m = 64;
+  sp.photo_dir.clear();  // procedural only
+  return std::make_shared<const iraf_vo::Scene>(iraf_vo::Scene::makeDefaultRoom(sp));
+}
+
 TEST(SimSequence, WritesAslFolderAndTumGroundTruth) {
   std::string err;
   auto cam = iraf_vo::makeSimCamera("fisheye", 128, 128, &err);
   ASSERT_TRUE(cam) << err;
-  iraf_vo::SceneParams sp;
-  sp.texels_per_m = 64;
-  sp.photo_dir.clear();  // procedural only
-  auto scene = std::make_shared<const iraf_vo::Scene>(iraf_vo::Scene::makeDefaultRoom(sp));
+  auto scene = smallRoom();
   iraf_vo::SimParams params;
   params.frames = 6;
   params.write_depth = true;
@@ -189,10 +194,7 @@ TEST(SimSequence, LightProfileWritesExposurePerFrameAndIsDeterministic) {
   std::string err;
   auto cam = iraf_vo::makeSimCamera("pinhole", 94, 60, &err);
   ASSERT_TRUE(cam) << err;
-  iraf_vo::SceneParams sp;
-  sp.texels_per_m = 64;
-  sp.photo_dir.clear();
-  auto scene = std::make_shared<const iraf_vo::Scene>(iraf_vo::Scene::makeDefaultRoom(sp));
+  auto scene = smallRoom();
   iraf_vo::SimParams params;
   params.frames = 20;
   iraf_vo::Renderer r(cam, scene, params);

@@ -52,6 +52,9 @@ struct LightProfile {
   AutoExposureParams ae;
   FlashlightParams flashlight;
   GlareParams glare;
+  // Real images were exposed by their own camera: the auto-exposure aims at each input's own mean grey
+  // (metered = target * output / input), so normal light keeps the reference exposure.
+  bool meter_against_input = false;
 };
 
 /// Returns a message naming the first bad field, or "" when usable.
