@@ -1,6 +1,5 @@
 #include "iraf_vo/sim/sequence.h"
 
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "iraf_vo/camera/camera_loader.h"
+#include "iraf_vo/common/wall_clock.h"
 #include "iraf_vo/sim/image_formation.h"
 #include "iraf_vo/io/image_codecs.h"
 
@@ -19,9 +19,6 @@ namespace iraf_vo {
 namespace fs = std::filesystem;
 
 namespace {
-double msSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
 void setError(std::string* error, const std::string& msg) {
   if (error) *error = msg;
 }
@@ -73,7 +70,6 @@ CameraModelPtr makeSimCamera(const std::string& camera, int width, int height, s
 
 bool writeSensorYaml(const CameraModel& camera, double rate_hz, const std::string& path, std::string* error) {
   const std::vector<double> p = camera.parameters();
-  const bool radtan = camera.modelName() == "pinhole-radtan";
   std::ofstream f(path);
   if (!f) {
     setError(error, path + ": cannot write");
@@ -92,7 +88,7 @@ bool writeSensorYaml(const CameraModel& camera, double rate_hz, const std::strin
     << "resolution: [" << camera.width() << ", " << camera.height() << "]\n"
     << "camera_model: pinhole\n"
     << "intrinsics: [" << num(p[0]) << ", " << num(p[1]) << ", " << num(p[2]) << ", " << num(p[3]) << "]  # fu, fv, cu, cv\n"
-    << "distortion_model: " << (radtan ? "radial-tangential" : "equidistant") << "\n"
+    << "distortion_model: " << camera.distortionModel() << "\n"
     << "distortion_coefficients: [";
   for (size_t i = 4; i < p.size(); ++i) f << (i > 4 ? ", " : "") << num(p[i]);
   f << "]\n";
@@ -173,9 +169,9 @@ bool writeSimulation(const Renderer& renderer, const TrajectoryParams& traj, con
     f.stamp_ns = renderer.frameStampNs(i);
     f.T_W_C = trajectoryPose(traj, renderer.frameTime(i));
     form(&f, &rep);
-    auto t0 = std::chrono::steady_clock::now();
+    auto t0 = SteadyClock::now();
     if (!out_dir.empty()) {
-      t0 = std::chrono::steady_clock::now();
+      t0 = SteadyClock::now();
       const std::string name = std::to_string(f.stamp_ns) + ".png";
       if (!codecs::imwrite(cam_dir + "/data/" + name, f.image)) {
         setError(error, cam_dir + "/data/" + name + ": cannot write PNG");
@@ -217,10 +213,10 @@ bool simulateSequence(const Renderer& renderer, const TrajectoryParams& traj, co
   cv::Mat radiance;
   const bool write_depth = renderer.params().write_depth;
   auto form = [&](SimFrame* f, SimulateReport* rep) {
-    auto t0 = std::chrono::steady_clock::now();
+    auto t0 = SteadyClock::now();
     renderer.renderFrame(traj, f->index, &radiance, write_depth ? &f->depth : nullptr);
     rep->render_ms += msSince(t0);
-    t0 = std::chrono::steady_clock::now();
+    t0 = SteadyClock::now();
     applyPhotometric(radiance, f->index, photometric, &f->image);
     rep->photometric_ms += msSince(t0);
   };
@@ -252,7 +248,7 @@ bool simulateSequence(const Renderer& renderer, const TrajectoryParams& traj, co
   cv::Mat radiance;
   FrameGeometry g;
   auto form = [&](SimFrame* f, SimulateReport* rep) {
-    auto t0 = std::chrono::steady_clock::now();
+    auto t0 = SteadyClock::now();
     if (f->index == 0 && light.ae.enabled) {  // a camera that has been running: its auto-exposure has settled on the first view
       renderer.renderFrame(traj, 0, formation.nextExposure().time_s, &radiance, geometry ? &g.depth : nullptr);
       g.T_W_C = f->T_W_C;
@@ -261,7 +257,7 @@ bool simulateSequence(const Renderer& renderer, const TrajectoryParams& traj, co
     renderer.renderFrame(traj, f->index, formation.nextExposure().time_s, &radiance, geometry ? &g.depth : nullptr);
     g.T_W_C = f->T_W_C;
     rep->render_ms += msSince(t0);
-    t0 = std::chrono::steady_clock::now();
+    t0 = SteadyClock::now();
     formation.capture(f->index, radiance, geometry ? &g : nullptr, &f->image, &f->light);
     if (geometry) f->depth = g.depth.clone();
     lights.push_back(f->light);
