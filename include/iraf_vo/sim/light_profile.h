@@ -62,7 +62,8 @@ struct LightProfile {
 std::string validate(const LightProfile& p);
 
 /// The profile `name` for a sequence of num_frames at rate_hz (frame ranges and durations scale with them);
-/// `real_images`: for real 8-bit images (iraf_vo_degrade): no vignetting; glare as image-space spots.
+/// `real_images`: for real 8-bit images (iraf_vo_degrade): no vignetting, lighter added noise, glare as
+/// image-space spots, the auto-exposure metered against the input.
 /// `reference_exposure_s`: the exposure at which the input radiance is in DN. Returns false for an unknown name.
 bool lightProfile(const std::string& name, int num_frames, double rate_hz, double reference_exposure_s,
                   bool real_images, uint64_t seed, LightProfile* profile);
