@@ -4,7 +4,9 @@
   noise_model_check.py --asl DIR [--first 306 --last 599]   still frames of an ASL sequence: per-pixel
                                                           temporal mean and variance over the frames
   noise_model_check.py --stills DIR                       single photos: std of the flattest 8x8 blocks
-                                                          per grey level (an upper bound of the noise)
+                                                          per grey level (texture adds, the 10th percentile
+                                                          of a block's sample variance falls below the noise)
+  --blocks: the photos' estimate on the --asl frames too, to compare it with the temporal one.
 Several --asl / --stills may be given. Prints per-level tables and the fit: k (DN per electron at the
 camera's gain; full well = 255 / k if the ADC saturates at full well) and the read-noise floor in DN.
 """
@@ -66,10 +68,9 @@ def temporal(paths):
     return out, m
 
 
-def stills(root):
+def stills(files):
     """Flattest 8x8 blocks per grey level over all photos: 10th percentile of the block variance."""
     per_bin = {}
-    files = sorted(glob.glob(os.path.join(root, "*")))
     for p in files:
         img = cv2.imread(p, cv2.IMREAD_GRAYSCALE)
         if img is None:
@@ -96,7 +97,7 @@ def stills(root):
         if len(v) < 50:
             continue
         out.append((float(np.mean(m)), float(np.percentile(v, 10)), len(v)))
-    return out, len(files)
+    return out
 
 
 def report(name, rows, max_level=230):
@@ -124,6 +125,8 @@ def main():
     ap.add_argument("--stills", action="append", default=[])
     ap.add_argument("--first", type=int, default=306)
     ap.add_argument("--last", type=int, default=599)
+    ap.add_argument("--blocks", action="store_true",
+                    help="also apply the photos' flat-block estimate to every 10th --asl frame (calibrates it)")
     args = ap.parse_args()
     if not args.asl and not args.stills:
         ap.error("give --asl DIR and/or --stills DIR")
@@ -137,9 +140,13 @@ def main():
         print(f"\n{root}: frames {args.first}-{args.first + len(paths) - 1} ({len(paths)}), frame mean "
               f"{means.mean():.2f} +- {means.std():.3f} DN")
         report("temporal noise per level (flat half of the pixels)", rows)
+        if args.blocks:
+            report(f"the same frames as photos: flattest 8x8 blocks (10th percentile of the block variance)",
+                   stills(paths[::10]))
     for root in args.stills:
-        rows, n = stills(root)
-        report(f"{root}: {n} photos, flattest 8x8 blocks (10th percentile of the block variance)", rows)
+        files = sorted(glob.glob(os.path.join(root, "*")))
+        report(f"{root}: {len(files)} photos, flattest 8x8 blocks (10th percentile of the block variance)",
+               stills(files))
 
 
 if __name__ == "__main__":

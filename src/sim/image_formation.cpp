@@ -128,9 +128,11 @@ void ImageFormation::illuminate(int frame, const cv::Mat& radiance, const FrameG
   if (profile_.glare.enabled && geometry && !lamps_.empty()) applyGlare(*geometry, irradiance);
 }
 
-double ImageFormation::meterGrey(const cv::Mat& image) const {
+double ImageFormation::meterGrey(const cv::Mat& image, const cv::Mat& radiance) const {
   const cv::Rect roi(image.cols / 5, image.rows / 5, image.cols - 2 * (image.cols / 5), image.rows - 2 * (image.rows / 5));
-  return cv::mean(image(roi))[0];
+  const double grey = cv::mean(image(roi))[0];
+  if (!profile_.meter_against_input) return grey;
+  return profile_.ae.target_grey * grey / std::max(1.0, cv::mean(radiance(roi))[0]);
 }
 
 void ImageFormation::settle(const cv::Mat& radiance, const FrameGeometry* geometry, int iterations) {
@@ -139,7 +141,7 @@ void ImageFormation::settle(const cv::Mat& radiance, const FrameGeometry* geomet
   illuminate(0, radiance, geometry, &irr);
   for (int i = 0; i < iterations; ++i) {
     sensor_.expose(irr, ae_.next(), profile_.scene.seed * 0x2545F4914F6CDD1DULL + 0xABCDEF00ULL + i, &img);
-    ae_.meter(meterGrey(img));
+    ae_.meter(meterGrey(img, radiance));
   }
   ae_.restartHistory();
 }
@@ -158,8 +160,7 @@ void ImageFormation::capture(int frame, const cv::Mat& radiance, const FrameGeom
                    cv::BORDER_REFLECT);
   }
   sensor_.expose(irr, e, profile_.scene.seed * 0x9E3779B97F4A7C15ULL + static_cast<uint64_t>(frame) * 7919ULL + 1, out);
-  const double metered = meterGrey(*out);
-  ae_.meter(metered);
+  ae_.meter(meterGrey(*out, radiance));
   if (record) {
     record->frame = frame;
     record->exposure = e;

@@ -44,6 +44,7 @@ bool lightProfile(const std::string& name, int n, double rate_hz, double referen
                                       [](const PhotometricEvent& e) { return e.type == PhotometricEventType::kNoise; }),
                        p.scene.events.end());
   p.sensor.reference_exposure_s = reference_exposure_s;
+  p.meter_against_input = real_images;
   if (real_images) {
     // A real image carries its own sensor's noise: at the reference exposure add only a little more.
     p.sensor.dn_per_electron = 0.02;

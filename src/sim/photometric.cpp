@@ -240,13 +240,9 @@ void applyIllumination(const cv::Mat& in, int frame, const PhotometricParams& pa
 }
 
 void applyPhotometric(const cv::Mat& in, int frame, const PhotometricParams& params, cv::Mat* out) {
-  if (in.empty()) throw std::invalid_argument("applyPhotometric: empty image");
-  if (in.type() != CV_8UC1 && in.type() != CV_32FC1)
-    throw std::invalid_argument("applyPhotometric: image must be CV_8UC1 or CV_32FC1 (got type " +
-                                std::to_string(in.type()) + ")");
-  const int w = in.cols, h = in.rows;
   cv::Mat img;
-  applyIllumination(in, frame, params, &img);
+  applyIllumination(in, frame, params, &img);  // throws for an empty image or another type
+  const int w = img.cols, h = img.rows;
 
   for (const PhotometricEvent& e : params.events) {
     if (!e.activeAt(frame) || e.type != PhotometricEventType::kMotionBlur || e.amplitude < 1.0) continue;

@@ -10,6 +10,7 @@
 //       [--width W --height H] [--seed S] [--speed X] [--supersample S] [--motion-blur K] [--exposure SEC]
 //       [--bag OUT.bag] [--threads N] [--no-photos] [--depth]
 //   iraf_vo_simulate --benchmark N [--camera ...]   (render speed, single core and all cores)
+#include <algorithm>
 #include <chrono>
 #include <ctime>
 #include <cstdlib>
@@ -184,7 +185,12 @@ int main(int argc, char** argv) {
       return 1;
     }
   }
+  // The camera's range over the sequence (exposure.csv has every frame).
+  double t_min = 1e9, t_max = 0.0, g_max = 0.0, clip_max = 0.0, grey_min = 255.0;
   auto on_frame = [&](const iraf_vo::SimFrame& f) {
+    t_min = std::min(t_min, f.light.exposure.time_s), t_max = std::max(t_max, f.light.exposure.time_s);
+    g_max = std::max(g_max, f.light.exposure.gain), clip_max = std::max(clip_max, f.light.saturated);
+    grey_min = std::min(grey_min, f.light.mean_grey);
     if (!bag) return;
     const ros::Time stamp(static_cast<uint32_t>(f.stamp_ns / 1000000000LL), static_cast<uint32_t>(f.stamp_ns % 1000000000LL));
     std_msgs::Header h;
@@ -217,6 +223,8 @@ int main(int argc, char** argv) {
     return 1;
   }
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::cout << "camera: exposure " << t_min * 1e3 << "-" << t_max * 1e3 << " ms, gain up to " << g_max
+            << ", darkest frame mean grey " << grey_min << ", up to " << 100.0 * clip_max << " % of a frame clipped\n";
   std::cout << "wrote " << rep.frames << " frames (" << preset << ") to " << out_dir << (bag ? " and " + bag_path : "")
             << " in " << total << " s: render " << rep.render_ms / rep.frames << " ms/frame ("
             << 1000.0 * rep.frames / rep.render_ms << " frames/s), photometric " << rep.photometric_ms / rep.frames

@@ -142,6 +142,7 @@ TEST(SimLightPresets, BlackoutHasNoSignalThenRecovers) {
 TEST(SimLightPresets, FlashlightFallsOffFromCentreAndWithDistance) {
   LightProfile p = profile("flashlight", 4);
   p.ae.enabled = false;  // fixed exposure: compare the light itself
+  p.flashlight.intensity = 1.0;  // well above the quantization at the reference exposure
   const cv::Mat flat(kH, kW, CV_32F, cv::Scalar(100.f));
   std::vector<cv::Mat> near_img, far_img;
   run(p, 1, &near_img, 2.0, flat);

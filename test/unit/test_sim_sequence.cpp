@@ -13,11 +13,13 @@
 #include <vector>
 
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "iraf_vo/camera/camera_loader.h"
 #include "iraf_vo/io/image_folder.h"
 #include "iraf_vo/io/trajectory.h"
 #include "iraf_vo/sim/light_profile.h"
+#include "iraf_vo/sim/motion_preset.h"
 #include "iraf_vo/sim/photometric.h"
 #include "iraf_vo/sim/sequence.h"
 
@@ -51,14 +53,19 @@ std::string slurp(const std::string& path) {
   return ss.str();
 }
 
+/// The default room with procedural textures at 64 texels/m.
+std::shared_ptr<const iraf_vo::Scene> smallRoom() {
+  iraf_vo::SceneParams sp;
+  sp.texels_per_m = 64;
+  sp.photo_dir.clear();  // procedural only
+  return std::make_shared<const iraf_vo::Scene>(iraf_vo::Scene::makeDefaultRoom(sp));
+}
+
 TEST(SimSequence, WritesAslFolderAndTumGroundTruth) {
   std::string err;
   auto cam = iraf_vo::makeSimCamera("fisheye", 128, 128, &err);
   ASSERT_TRUE(cam) << err;
-  iraf_vo::SceneParams sp;
-  sp.texels_per_m = 64;
-  sp.photo_dir.clear();  // procedural only
-  auto scene = std::make_shared<const iraf_vo::Scene>(iraf_vo::Scene::makeDefaultRoom(sp));
+  auto scene = smallRoom();
   iraf_vo::SimParams params;
   params.frames = 6;
   params.write_depth = true;
@@ -189,10 +196,7 @@ TEST(SimSequence, LightProfileWritesExposurePerFrameAndIsDeterministic) {
   std::string err;
   auto cam = iraf_vo::makeSimCamera("pinhole", 94, 60, &err);
   ASSERT_TRUE(cam) << err;
-  iraf_vo::SceneParams sp;
-  sp.texels_per_m = 64;
-  sp.photo_dir.clear();
-  auto scene = std::make_shared<const iraf_vo::Scene>(iraf_vo::Scene::makeDefaultRoom(sp));
+  auto scene = smallRoom();
   iraf_vo::SimParams params;
   params.frames = 20;
   iraf_vo::Renderer r(cam, scene, params);
@@ -221,6 +225,35 @@ TEST(SimSequence, LightProfileWritesExposurePerFrameAndIsDeterministic) {
   ASSERT_EQ(std::sscanf(rows[5].c_str(), "%*d,%lf", &t5), 1);
   ASSERT_EQ(std::sscanf(rows[13].c_str(), "%*d,%lf", &t13), 1);
   EXPECT_GT(t13, 2.0 * t5) << rows[13];
+}
+
+TEST(SimSequence, ShutterBlurGrowsWithTheExposure) {
+  // The renderer's shutter follows the camera's exposure: 4x the time under fast hand rotation blurs more.
+  std::string err;
+  auto cam = iraf_vo::makeSimCamera("pinhole", 188, 120, &err);
+  ASSERT_TRUE(cam) << err;
+  const iraf_vo::MotionPreset mp = iraf_vo::motionPreset(iraf_vo::MotionKind::kHandheldFast);
+  iraf_vo::SimParams params;
+  params.motion_blur_samples = 1;
+  params.exposure_time_s = 0.01;
+  iraf_vo::Renderer r(cam, smallRoom(), params);
+  auto sharpness = [&](double exposure_s) {
+    double sum = 0.0;
+    for (int frame : {40, 80, 120}) {
+      cv::Mat rad, lap;
+      r.renderFrame(mp.traj, frame, exposure_s, &rad);
+      cv::Laplacian(rad, lap, CV_32F);
+      sum += cv::mean(lap.mul(lap))[0];
+    }
+    return sum;
+  };
+  const double at_reference = sharpness(0.01), at_4x = sharpness(0.04);
+  EXPECT_LT(at_4x, 0.8 * at_reference) << at_4x << " vs " << at_reference;
+  // At the reference exposure the one-sample render is the plain render of the frame's pose.
+  cv::Mat a, b;
+  r.renderFrame(mp.traj, 40, 0.01, &a);
+  r.render(iraf_vo::trajectoryPose(mp.traj, r.frameTime(40)), &b);
+  EXPECT_EQ(cv::countNonZero(a != b), 0);
 }
 
 TEST(SimDegrade, LightProfileOnRealImages) {

@@ -4,7 +4,8 @@
 //                x flashlight cone (angle, distance^2) x glare lamps        (depth-based parts need depth)
 //   [real images] directional blur along the image motion, scaled by the exposure time beyond the reference
 //   image      = SensorModel::expose(irradiance, exposure chosen by the auto-exposure, seed of the frame)
-//   the auto-exposure meters the image's central region (60 % x 60 %) for a later frame.
+//   the auto-exposure meters the image's central region (60 % x 60 %) for a later frame (real images:
+//   against the input's own grey there, so that normal light keeps the reference exposure).
 // The renderer's shutter is tied to the exposure (Renderer::renderFrame with the frame's exposure time).
 #pragma once
 
@@ -71,7 +72,8 @@ class ImageFormation {
   void applyGlare(const FrameGeometry& geometry, cv::Mat* irradiance) const;
   /// Unit bearings (CV_32FC3) of every pixel, computed once; empty without a camera.
   const cv::Mat& bearings(int w, int h) const;
-  double meterGrey(const cv::Mat& image) const;
+  /// Mean grey of the central 60 % x 60 % (relative to the input's when profile().meter_against_input).
+  double meterGrey(const cv::Mat& image, const cv::Mat& radiance) const;
 
   LightProfile profile_;
   CameraModelPtr camera_;

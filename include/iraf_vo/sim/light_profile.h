@@ -10,7 +10,8 @@
 //                0.4x-2.5x of the right one with a period under 1 s, clipping at the peaks
 //   light_switch the light goes off (5 % left) and on twice; the auto-exposure recovers after each switch
 //   blackout     2.5 s of no light at all (mean grey < 5), then the light returns (saturated, recovering)
-//   flashlight   dark room (1 % ambient) lit only by a cone fixed to the camera: falls off with the angle
+//   flashlight   dark room (0.5 % ambient) lit only by a weak cone fixed to the camera (10 % of the normal
+//                light at 2 m on its axis, so the camera runs at high gain): falls off with the angle
 //                from the optical axis and with distance^2 (needs the renderer's depth)
 //   glare        bright lamps in the scene (x16 radiance) saturate parts of the view; the auto-exposure
 //                meters them and darkens the rest
@@ -30,10 +31,10 @@ namespace iraf_vo {
 /// sigma such that the gain halves at half_angle_deg.
 struct FlashlightParams {
   bool enabled = false;
-  double intensity = 1.0;           // gain on the axis at reference_distance_m
+  double intensity = 0.1;           // gain on the axis at reference_distance_m (a hand lamp: high gain)
   double reference_distance_m = 2.0;
   double half_angle_deg = 28.0;
-  double ambient = 0.01;            // the dark room's remaining light (share of the normal light)
+  double ambient = 0.005;           // the dark room's remaining light (share of the normal light)
 };
 
 /// Bright lamps (world-anchored on the simulator; image-space spots on real images) whose radiance is
@@ -52,13 +53,17 @@ struct LightProfile {
   AutoExposureParams ae;
   FlashlightParams flashlight;
   GlareParams glare;
+  // Real images were exposed by their own camera: the auto-exposure aims at each input's own mean grey
+  // (metered = target * output / input), so normal light keeps the reference exposure.
+  bool meter_against_input = false;
 };
 
 /// Returns a message naming the first bad field, or "" when usable.
 std::string validate(const LightProfile& p);
 
 /// The profile `name` for a sequence of num_frames at rate_hz (frame ranges and durations scale with them);
-/// `real_images`: for real 8-bit images (iraf_vo_degrade): no vignetting; glare as image-space spots.
+/// `real_images`: for real 8-bit images (iraf_vo_degrade): no vignetting, lighter added noise, glare as
+/// image-space spots, the auto-exposure metered against the input.
 /// `reference_exposure_s`: the exposure at which the input radiance is in DN. Returns false for an unknown name.
 bool lightProfile(const std::string& name, int num_frames, double rate_hz, double reference_exposure_s,
                   bool real_images, uint64_t seed, LightProfile* profile);
