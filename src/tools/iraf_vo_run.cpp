@@ -39,7 +39,7 @@ void usage(FILE* f) {
       "  --gt       ground truth (TUM or EuRoC csv) -> Sim(3) ATE in the summary\n"
       "  --config   YAML with optional maps 'enhance:', 'features:', 'tracker:' (keys = parameter names)\n"
       "  --first/--frames  process frames [first, first + frames) only\n"
-      "  --frame-log per-frame CSV: index,stamp,state,keypoints,matches,inliers,keyframe,pnp,ms_track,note\n"
+      "  --frame-log per-frame CSV: index,stamp,state,keypoints,matches,inliers,keyframe,pnp,ms_track,mean,snr,note\n"
       "             (note: why initialization failed / why the health monitor rejected the pose)\n"
       "  --set      override one parameter, e.g. --set tracker.ba_window_size=12 (after --mode / --config)\n"
       "  --no-resolution-rule  keep the 752x480 defaults of the size-dependent fields (n_features, cell_size,\n"

@@ -10,6 +10,7 @@
 #include <iraf_vo/tracking/map.h>
 #include <iraf_vo/tracking/map_initializer.h>
 #include <iraf_vo/tracking/pose_tracker.h>
+#include <iraf_vo/tracking/signal_check.h>
 
 #include <algorithm>
 #include <atomic>
@@ -37,6 +38,7 @@ struct Tracker::Impl {
   MapInitializer initializer;
   PoseTracker pose_tracker;
   TrackingHealthMonitor health;
+  SignalCheck signal;
 
   mutable std::mutex stats_mutex;
   TrackerStats stats;  // guarded by stats_mutex (the mapper keeps its BA stats)
@@ -57,9 +59,10 @@ struct Tracker::Impl {
   bool have_last_good = false;
   Eigen::Isometry3d last_good_T_w_c = Eigen::Isometry3d::Identity();
   double last_median_depth = 1.0;
+  bool last_dark = false;  // the previous frame was too dark
 
   Impl(CameraModelPtr c, const TrackerParams& params)
-      : cam(std::move(c)), p(params), mapper(*cam, p, &map), initializer(*cam, p), pose_tracker(*cam, p), health(p) {}
+      : cam(std::move(c)), p(params), mapper(*cam, p, &map), initializer(*cam, p), pose_tracker(*cam, p), health(p), signal(p) {}
 
   template <class F>
   void updateStats(F&& f) {
@@ -75,6 +78,7 @@ struct Tracker::Impl {
                           const Eigen::Isometry3d& T_predicted);
   bool addKeyframeIfNeeded(const Frame& cur, TrackResult* res);
   void handleLostFrame(const Frame& cur);
+  TrackResult darkFrame(SteadyClock::time_point t_start, TrackResult res);
   void resetMap();
   void onTracked(const Frame& cur, TrackResult* res, bool is_keyframe);
   TrackResult notTracked(TrackingState reported, SteadyClock::time_point t_start, TrackResult res) const {
@@ -97,6 +101,13 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in) {
   updateStats([](TrackerStats& s) { s.frames++; });
   // Bad frame: report it as not tracked, keep the state machine as is.
   if (!ok_input) return notTracked(state == TrackingState::kTracking ? TrackingState::kLost : state.load(), t_start, res);
+  res.too_dark = signal.tooDark(in.signal);
+  const bool was_dark = last_dark;
+  last_dark = !res.too_dark.empty();
+  if (last_dark) {
+    if (!was_dark) updateStats([](TrackerStats& s) { s.dark_events++; });
+    return darkFrame(t_start, res);
+  }
 
   if (state == TrackingState::kNotInitialized || state == TrackingState::kInitializing) {
     t0 = SteadyClock::now();
@@ -111,6 +122,7 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in) {
     state = TrackingState::kTracking;
     reinitializing = false;
     res.initialized_now = true;
+    signal.restart();
     health.restart();
     updateStats([](TrackerStats& s) {
       s.initializations++;
@@ -144,6 +156,12 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in) {
   }
   state = TrackingState::kTracking;
   consecutive_lost = 0;
+  res.relocalized_after_frames = signal.trackedFrame();
+  if (res.relocalized_after_frames > 0)
+    updateStats([&res](TrackerStats& s) {
+      s.relocalizations++;
+      s.frames_to_relocalize_max = std::max<long>(s.frames_to_relocalize_max, res.relocalized_after_frames);
+    });
   ++frames_since_kf;
   t0 = SteadyClock::now();
   const bool new_keyframe = addKeyframeIfNeeded(cur, &res);
@@ -287,12 +305,32 @@ void Tracker::Impl::handleLostFrame(const Frame& cur) {
     if (was_tracking) s.lost_events++;
   });
   state = TrackingState::kLost;
-  if (++consecutive_lost <= p.lost_frames_before_reset) return;
+  signal.lostFrame();
+  if (++consecutive_lost <= signal.lostFramesBeforeReset()) return;
   updateStats([](TrackerStats& s) { s.resets++; });
   resetMap();
+  signal.restart();
   initializer.setReference(cur);  // this frame starts the new initialization
   reinitializing = true;
   state = initializer.hasReference() ? TrackingState::kInitializing : TrackingState::kNotInitialized;
+}
+
+// A frame too dark to track: with a map, LOST with the map and the last pose kept for the relocalization when the
+// light returns (no reset counted); before a map exists the initialization waits for the light.
+TrackResult Tracker::Impl::darkFrame(SteadyClock::time_point t_start, TrackResult res) {
+  const bool has_map = state == TrackingState::kTracking || state == TrackingState::kLost;
+  const bool was_tracking = state == TrackingState::kTracking;
+  updateStats([&](TrackerStats& s) {
+    s.dark_frames++;
+    if (has_map || reinitializing) s.lost_frames++;
+    if (was_tracking) s.lost_events++;
+  });
+  if (!has_map) return notTracked(reinitializing ? TrackingState::kLost : state.load(), t_start, res);
+  signal.darkFrame();
+  state = TrackingState::kLost;
+  have_velocity = false;
+  health.restart();
+  return notTracked(TrackingState::kLost, t_start, res);
 }
 
 void Tracker::Impl::resetMap() {

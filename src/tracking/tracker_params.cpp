@@ -62,6 +62,10 @@ std::string validate(const TrackerParams& p) {
   if (p.ba_commit_frames < 0) return bad("ba_commit_frames", "must be >= 0");
   if (p.sync_mapping_busy_frames < 0) return bad("sync_mapping_busy_frames", "must be >= 0");
   if (p.lost_frames_before_reset < 0) return bad("lost_frames_before_reset", "must be >= 0");
+  if (!(p.dark_max_mean >= 0 && p.dark_max_mean <= 255)) return bad("dark_max_mean", "must be in [0, 255]");
+  if (!(p.dark_min_snr >= 0 && std::isfinite(p.dark_min_snr))) return bad("dark_min_snr", "must be >= 0 and finite");
+  if (!(p.dark_min_contrast >= 0 && std::isfinite(p.dark_min_contrast))) return bad("dark_min_contrast", "must be >= 0 and finite");
+  if (p.dark_relocalization_frames < 0) return bad("dark_relocalization_frames", "must be >= 0");
   if (!(p.health_min_inlier_ratio >= 0 && p.health_min_inlier_ratio <= 1)) return bad("health_min_inlier_ratio", "must be in [0, 1]");
   if (!(p.health_max_median_chi2 > 0 && std::isfinite(p.health_max_median_chi2))) return bad("health_max_median_chi2", "must be > 0 and finite");
   if (!(p.health_max_accel_ratio > 0 && std::isfinite(p.health_max_accel_ratio))) return bad("health_max_accel_ratio", "must be > 0 and finite");
