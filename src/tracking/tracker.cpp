@@ -10,6 +10,7 @@
 #include <iraf_vo/tracking/map.h>
 #include <iraf_vo/tracking/map_initializer.h>
 #include <iraf_vo/tracking/pose_tracker.h>
+#include <iraf_vo/tracking/relocalizer.h>
 #include <iraf_vo/tracking/signal_check.h>
 
 #include <algorithm>
@@ -39,6 +40,7 @@ struct Tracker::Impl {
   PoseTracker pose_tracker;
   TrackingHealthMonitor health;
   SignalCheck signal;
+  Relocalizer relocalizer;
 
   mutable std::mutex stats_mutex;
   TrackerStats stats;  // guarded by stats_mutex (the mapper keeps its BA stats)
@@ -62,7 +64,7 @@ struct Tracker::Impl {
   bool last_dark = false;  // the previous frame was too dark
 
   Impl(CameraModelPtr c, const TrackerParams& params)
-      : cam(std::move(c)), p(params), mapper(*cam, p, &map), initializer(*cam, p), pose_tracker(*cam, p), health(p), signal(p) {}
+      : cam(std::move(c)), p(params), mapper(*cam, p, &map), initializer(*cam, p), pose_tracker(*cam, p), health(p), signal(p), relocalizer(*cam, p) {}
 
   template <class F>
   void updateStats(F&& f) {
@@ -73,6 +75,8 @@ struct Tracker::Impl {
   TrackResult track(const FeatureFrame& in);
   bool initializeMap(Frame& cur, TrackResult* res);
   bool trackWithMotionModel(Frame& cur, TrackResult* res);
+  bool trackFrom(Frame& cur, const Eigen::Isometry3d& T_last, const Eigen::Isometry3d& T_predicted, TrackResult* res);
+  bool relocalizeAfterDarkness(Frame& cur, TrackResult* res);
   Eigen::Matrix<double, 6, 6> initialPoseInformation(const Frame& cur) const;
   std::string checkHealth(const Frame& cur, const PoseTrackingResult& r, const Eigen::Isometry3d& T_last,
                           const Eigen::Isometry3d& T_predicted);
@@ -148,7 +152,7 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in) {
   // the prediction says nothing about the camera, so the health monitor's motion checks skip it.
   map_corrected_before_frame = p.mapping_thread && p.ba_deferred_commit && p.ba_commit_frames > 0 &&
                                frames_since_kf + 1 == p.ba_commit_frames && mapper.commitPendingBA();
-  if (!trackWithMotionModel(cur, &res)) {
+  if (!trackWithMotionModel(cur, &res) && !relocalizeAfterDarkness(cur, &res)) {
     map_update.unlock();
     health.restart();
     handleLostFrame(cur);
@@ -157,11 +161,15 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in) {
   state = TrackingState::kTracking;
   consecutive_lost = 0;
   res.relocalized_after_frames = signal.trackedFrame();
-  if (res.relocalized_after_frames > 0)
+  if (res.relocalized_after_frames > 0) {
+    // The motion since the last pose spans the dark frames: no velocity for the next prediction.
+    have_velocity = false;
+    health.restart();
     updateStats([&res](TrackerStats& s) {
       s.relocalizations++;
       s.frames_to_relocalize_max = std::max<long>(s.frames_to_relocalize_max, res.relocalized_after_frames);
     });
+  }
   ++frames_since_kf;
   t0 = SteadyClock::now();
   const bool new_keyframe = addKeyframeIfNeeded(cur, &res);
@@ -206,6 +214,28 @@ bool Tracker::Impl::trackWithMotionModel(Frame& cur, TrackResult* res) {
   Eigen::Isometry3d T_last = last.T_c_w, T_kf;
   if (map.keyframePose(last_ref_kf, &T_kf)) T_last = T_last_rel_kf * T_kf;
   const Eigen::Isometry3d T_predicted = have_velocity ? velocity * T_last : T_last;
+  return trackFrom(cur, T_last, T_predicted, res);
+}
+
+// After dark frames, when tracking from the last pose failed: the local map tracked from the poses the keyframe-wise
+// relocalization proposes (best first); the same inlier and health checks decide.
+bool Tracker::Impl::relocalizeAfterDarkness(Frame& cur, TrackResult* res) {
+  if (!signal.recovering()) return false;
+  const auto t0 = SteadyClock::now();
+  const std::vector<RelocalizationCandidate> candidates = relocalizer.candidates(cur, map, 3);
+  res->timing.ms_match += msSince(t0);
+  Eigen::Isometry3d T_last = last.T_c_w, T_kf;
+  if (map.keyframePose(last_ref_kf, &T_kf)) T_last = T_last_rel_kf * T_kf;
+  for (const RelocalizationCandidate& c : candidates) {
+    std::fill(cur.point_id.begin(), cur.point_id.end(), -1);  // of a rejected attempt
+    res->rejected.clear();
+    if (trackFrom(cur, T_last, c.T_c_w, res)) return res->used_pnp = true;
+  }
+  return false;
+}
+
+bool Tracker::Impl::trackFrom(Frame& cur, const Eigen::Isometry3d& T_last, const Eigen::Isometry3d& T_predicted,
+                              TrackResult* res) {
   const PoseTrackingResult r = pose_tracker.trackLocalMap(cur, T_predicted, &map);
   res->matches = r.matches;
   res->inliers = r.inliers;
