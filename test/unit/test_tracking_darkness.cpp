@@ -1,7 +1,6 @@
-// Darkness: the image-signal estimate, the "too dark" decision, and on a simulated blackout (iraf_vo_simulate +
-// frames replaced by sensor noise, then iraf_vo_run with its default settings): the dark frames are LOST with a
-// "too dark" reason and give no pose, tracking resumes in the same map within a few frames (no reset, the same
-// scale), and a dim but usable sequence raises no alarm.
+// Darkness: the image-signal estimate, the "too dark" decision, and on the simulator's blackout preset (iraf_vo_run
+// with its default settings): the dark frames are LOST with a "too dark" reason and give no pose, tracking resumes
+// in the same map within a few frames (no reset, the same scale), and a dim but usable sequence raises no alarm.
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -19,7 +18,6 @@
 #include "common/tmp_dir.h"
 #include "iraf_vo/eval/trajectory_eval.h"
 #include "iraf_vo/features/image_signal.h"
-#include "iraf_vo/io/image_codecs.h"
 #include "iraf_vo/io/image_folder.h"
 #include "iraf_vo/io/trajectory.h"
 #include "iraf_vo/tracking/signal_check.h"
@@ -205,19 +203,13 @@ std::string simulate(const std::string& preset, const std::string& out, int fram
 
 TEST(TrackingDarkness, BlackoutIsLostWithoutPoseAndRelocalizesInTheSameMap) {
   if (!exists(kBin + "/iraf_vo_run") || !exists(kBin + "/iraf_vo_simulate")) GTEST_SKIP() << "tools not built";
+  // The simulator's blackout: the light goes off at frame 60 for 2.25 s (the camera sees its own noise, mean
+  // 0.2-1.8), then the auto-exposure recovers from its longest exposure and highest gain (saturated frames first).
+  // At half the default speed the camera still looks at part of the map when the light returns.
   const std::string seq = tmpRoot() + "blackout";
-  const std::string sim_error = simulate("clean", seq, 150);
+  const std::string sim_error = simulate("blackout --speed 0.5", seq, 150);
   ASSERT_EQ(sim_error, "");
-  // 1.5 s of darkness (frames 60-89 at 20 Hz): the camera sees its own noise only (mean ~1, sigma 2, clipped at 0).
-  constexpr long kFirstDark = 60, kLastDark = 89;
-  iraf_vo::AslImageReader reader;
-  std::string err;
-  ASSERT_TRUE(reader.open(seq, &err)) << err;
-  for (long i = kFirstDark; i <= kLastDark; ++i) {
-    const cv::Mat dark = expose(cv::Mat(480, 752, CV_32F, cv::Scalar(0)), 0.0, 1.0, 2.0, static_cast<unsigned>(i));
-    ASSERT_TRUE(iraf_vo::codecs::imwrite(reader.entries()[i].path, dark)) << reader.entries()[i].path;
-  }
-  std::string out;
+  std::string out, err;
   ASSERT_EQ(runCommand(kBin + "/iraf_vo_run --dataset " + seq + " --mode iraf --quiet --out " + seq + "/traj.txt" +
                            " --stats " + seq + "/stats.json --frame-log " + seq + "/frames.csv",
                        &out),
@@ -225,32 +217,41 @@ TEST(TrackingDarkness, BlackoutIsLostWithoutPoseAndRelocalizesInTheSameMap) {
       << out;
   const std::map<long, FrameRow> rows = readFrameLog(seq + "/frames.csv");
   ASSERT_EQ(rows.size(), 150u);
-  for (long i = kFirstDark; i <= kLastDark; ++i) {
+  long first_dark = -1, last_dark = -1;
+  for (const auto& [i, row] : rows) {
+    if (row.note.rfind("too dark: mean", 0) != 0) continue;
+    if (first_dark < 0) first_dark = i;
+    last_dark = i;
+  }
+  EXPECT_EQ(first_dark, 60);
+  EXPECT_GE(last_dark, 100);
+  for (long i = first_dark; i <= last_dark; ++i) {
     EXPECT_EQ(rows.at(i).state, "lost") << "frame " << i;
     EXPECT_EQ(rows.at(i).note.rfind("too dark: mean", 0), 0u) << "frame " << i << ": " << rows.at(i).note;
   }
   long resumed = -1;
-  for (long i = kLastDark + 1; i < 150 && resumed < 0; ++i)
+  for (long i = last_dark + 1; i < 150 && resumed < 0; ++i)
     if (rows.at(i).state == "tracking") resumed = i;
-  EXPECT_GE(resumed, kLastDark + 1);
-  EXPECT_LE(resumed, kLastDark + 3) << "tracking resumed at frame " << resumed;
+  EXPECT_GT(resumed, last_dark);
+  EXPECT_LE(resumed, last_dark + 10) << "tracking resumed at frame " << resumed;
   const std::string stats = readAll(seq + "/stats.json");
-  EXPECT_EQ(jsonNumber(stats, "dark_frames"), 30.0) << stats;
+  EXPECT_EQ(jsonNumber(stats, "dark_frames"), static_cast<double>(last_dark - first_dark + 1)) << stats;
   EXPECT_EQ(jsonNumber(stats, "resets"), 0.0) << stats;
   EXPECT_EQ(jsonNumber(stats, "relocalizations"), 1.0) << stats;
 
   iraf_vo::Trajectory gt, est;
   ASSERT_TRUE(iraf_vo::readTumTrajectory(seq + "/groundtruth.txt", &gt, &err)) << err;
   ASSERT_TRUE(iraf_vo::readTumTrajectory(seq + "/traj.txt", &est, &err)) << err;
-  const double t_dark = rows.at(kFirstDark).stamp - 1e-3, t_light = rows.at(kLastDark).stamp + 1e-3;
+  const double t_dark = rows.at(first_dark).stamp - 1e-3, t_light = rows.at(last_dark).stamp + 1e-3;
   for (size_t i = 0; i < est.size(); ++i)
     EXPECT_FALSE(est.stamps[i] > t_dark && est.stamps[i] < t_light) << "a pose at " << est.stamps[i];
-  // One map: the whole run aligns with one Sim(3), and the scale after the darkness is the scale before.
+  // One map: the whole run aligns with one Sim(3), and the scale after the darkness is the scale before (a new map
+  // after a reset: 21 % off).
   const iraf_vo::EvalResult all = evaluate(gt, est, 0.0, 1e18);
   const iraf_vo::EvalResult before = evaluate(gt, est, 0.0, t_dark), after = evaluate(gt, est, t_light, 1e18);
-  ASSERT_GT(all.gt_length, 1.5);
+  ASSERT_GT(all.gt_length, 0.8);
   EXPECT_LE(all.ate.rmse, 0.01 * all.gt_length) << "ATE " << all.ate.rmse << " m over " << all.gt_length << " m";
-  EXPECT_NEAR(after.scale / before.scale, 1.0, 0.03) << "scale before " << before.scale << ", after " << after.scale;
+  EXPECT_NEAR(after.scale / before.scale, 1.0, 0.08) << "scale before " << before.scale << ", after " << after.scale;
 }
 
 TEST(TrackingDarkness, DimSequenceRaisesNoAlarm) {
