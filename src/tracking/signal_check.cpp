@@ -20,9 +20,9 @@ int SignalCheck::lostFramesBeforeReset() const {
 }
 
 int SignalCheck::trackedFrame() {
-  const int frames = recovering_ ? frames_since_dark_ + 1 : 0;
-  restart();
-  return frames;
+  if (!recovering_ || relocalized_) return 0;
+  relocalized_ = true;
+  return frames_since_dark_;
 }
 
 }  // namespace iraf_vo

@@ -112,6 +112,7 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in) {
     if (!was_dark) updateStats([](TrackerStats& s) { s.dark_events++; });
     return darkFrame(t_start, res);
   }
+  signal.lightFrame();
 
   if (state == TrackingState::kNotInitialized || state == TrackingState::kInitializing) {
     t0 = SteadyClock::now();
@@ -335,7 +336,6 @@ void Tracker::Impl::handleLostFrame(const Frame& cur) {
     if (was_tracking) s.lost_events++;
   });
   state = TrackingState::kLost;
-  signal.lostFrame();
   if (++consecutive_lost <= signal.lostFramesBeforeReset()) return;
   updateStats([](TrackerStats& s) { s.resets++; });
   resetMap();

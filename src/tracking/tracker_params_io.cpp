@@ -113,7 +113,7 @@ const ParamTable<TrackerParams>& trackerParamTable() {
           doubleParam("dark_min_contrast", &P::dark_min_contrast, 0.0, 255.0,
                       "A dark image is too dark below this contrast of its 4x4-pixel means above the noise [grey levels]"),
           intParam("dark_relocalization_frames", &P::dark_relocalization_frames, 0, 100000,
-                   "After dark frames: relocalization attempts in the same map before the reset"),
+                   "After dark frames: for this many frames a loss resets the map only after this many lost frames (relocalization in the same map)"),
           boolParam("health_monitor", &P::health_monitor,
                     "Reject untrustworthy poses (reported lost, never tracking)"),
           doubleParam("health_min_inlier_ratio", &P::health_min_inlier_ratio, 0.0, 1.0,

@@ -22,7 +22,8 @@
 //
 // Darkness (signal_check.h): a frame whose image carries no usable signal is lost with a "too dark" reason and
 //   is not tracked; the map and the last pose are kept and, once the light returns, the lost-frame path below
-//   relocalizes in that map for up to dark_relocalization_frames frames before the reset.
+//   relocalizes in that map (+ the keyframe-wise Relocalizer); for dark_relocalization_frames frames after the
+//   dark ones a loss resets the map only after that many lost frames.
 // Loss recovery: a frame with < min_tracking_inliers inliers is lost (kLost; lost_frames++, and lost_events++
 //   on the transition). The next frames try relocalization (brute force against the map's points + PnP).
 //   After lost_frames_before_reset consecutive lost frames the map is cleared and initialization restarts
