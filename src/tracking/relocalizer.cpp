@@ -1,5 +1,5 @@
-#include <iraf_vo/tracking/geometry.h>
-#include <iraf_vo/tracking/relocalizer.h>
+#include "iraf_vo/tracking/multiview.h"
+#include "iraf_vo/tracking/relocalizer.h"
 
 #include <algorithm>
 #include <cstring>
