@@ -11,6 +11,7 @@
 #include "iraf_vo/EnhanceConfig.h"
 #include "iraf_vo/EnhanceStats.h"
 #include "iraf_vo/enhance/enhancer.h"
+#include "iraf_vo/features/image_signal.h"
 #include "iraf_vo/ros/camera_source.h"
 #include "iraf_vo/ros/image_conversion.h"
 #include "iraf_vo/ros/image_input.h"
@@ -115,6 +116,10 @@ class EnhanceNodelet : public StageNodelet<EnhanceParams, iraf_vo::EnhanceConfig
       st->mu = static_cast<float>(res.mu);
       st->t = static_cast<float>(res.t);
       st->ms = static_cast<float>(res.ms);
+      const ImageSignal signal = measureImageSignal(gray);
+      st->signal_noise = static_cast<float>(signal.noise_sigma);
+      st->signal_contrast = static_cast<float>(signal.contrast);
+      st->signal_snr = static_cast<float>(signal.snr);
       stats_pub_.publish(st);
     }
     std::lock_guard<std::mutex> lock(stats_mutex_);

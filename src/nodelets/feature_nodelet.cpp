@@ -9,6 +9,7 @@
 #include "iraf_vo/EnhanceStats.h"
 #include "iraf_vo/FeaturesConfig.h"
 #include "iraf_vo/features/feature_extractor.h"
+#include "iraf_vo/features/image_signal.h"
 #include "iraf_vo/pipeline/pipeline_params.h"
 #include "iraf_vo/ros/feature_conversion.h"
 #include "iraf_vo/ros/image_conversion.h"
@@ -36,7 +37,8 @@ class FeatureNodelet : public StageNodelet<FeatureParams, iraf_vo::FeaturesConfi
   void subscribeInputs() override {
     image_transport::TransportHints hints("raw", ros::TransportHints(), getPrivateNodeHandle());
     sub_ = it_->subscribe("image_enhanced", queue_size_, &FeatureNodelet::imageCb, this, hints);
-    // Optional: the enhancement class of each frame, matched by stamp (Features.brightness, 0 if unknown).
+    // Optional: the enhancement class and the input signal of each frame, matched by stamp (Features.brightness,
+    // Features.signal_*).
     stats_sub_ = getNodeHandle().subscribe("enhance_stats", 20, &FeatureNodelet::statsCb, this);
   }
   void unsubscribeInputs() override {
@@ -46,16 +48,32 @@ class FeatureNodelet : public StageNodelet<FeatureParams, iraf_vo::FeaturesConfi
 
   void statsCb(const iraf_vo::EnhanceStatsConstPtr& msg) {
     std::lock_guard<std::mutex> lock(brightness_mutex_);
-    brightness_.emplace_back(msg->header.stamp, msg->brightness);
+    brightness_.push_back(msg);
     while (brightness_.size() > 64) brightness_.pop_front();
   }
 
-  // Enhancement class of the frame with this stamp if its EnhanceStats arrived, else 0 (unknown).
-  int brightnessOf(const ros::Time& stamp) {
+  // The EnhanceStats of the frame with this stamp if they arrived, else null.
+  iraf_vo::EnhanceStatsConstPtr enhanceStatsOf(const ros::Time& stamp) {
     std::lock_guard<std::mutex> lock(brightness_mutex_);
     for (auto it = brightness_.rbegin(); it != brightness_.rend(); ++it)
-      if (it->first == stamp) return it->second;
-    return 0;
+      if ((*it)->header.stamp == stamp) return *it;
+    return nullptr;
+  }
+
+  // Enhancement class (0 if unknown) and the signal of the camera image: from the frame's EnhanceStats (measured
+  // before enhancement); without an enhance stage (no EnhanceStats ever) measured on this input, the camera image.
+  void addInputStats(const ros::Time& stamp, const cv::Mat& gray, FeatureFrame* frame) {
+    const iraf_vo::EnhanceStatsConstPtr st = enhanceStatsOf(stamp);
+    if (st) {
+      frame->stats.brightness = st->brightness;
+      frame->signal.measured = true;
+      frame->signal.mean = st->mu;
+      frame->signal.noise_sigma = st->signal_noise;
+      frame->signal.contrast = st->signal_contrast;
+      frame->signal.snr = st->signal_snr;
+    } else if (stats_sub_.getNumPublishers() == 0) {
+      frame->signal = measureImageSignal(gray);
+    }
   }
 
   // n_features, cell_size and n_levels from the image size (pipeline_params.h), once per size, unless given as
@@ -91,7 +109,7 @@ class FeatureNodelet : public StageNodelet<FeatureParams, iraf_vo::FeaturesConfi
       return;
     }
     // Looked up after the extraction: EnhanceNodelet publishes its stats right after the image.
-    frame.stats.brightness = brightnessOf(msg->header.stamp);
+    addInputStats(msg->header.stamp, gray, &frame);
     NODELET_DEBUG_THROTTLE(2.0, "features: %zu keypoints (%d culled), F_t^g %.1f, %.2f/%.2f/%.2f ms",
                            frame.keypoints.size(), frame.stats.culled, frame.stats.global_threshold,
                            frame.stats.ms_threshold, frame.stats.ms_detect, frame.stats.ms_cull);
@@ -127,7 +145,7 @@ class FeatureNodelet : public StageNodelet<FeatureParams, iraf_vo::FeaturesConfi
   ros::Publisher features_pub_;
   ros::Subscriber stats_sub_;
   std::mutex brightness_mutex_;
-  std::deque<std::pair<ros::Time, int>> brightness_;  // (stamp, EnhanceStats.brightness) of recent frames
+  std::deque<iraf_vo::EnhanceStatsConstPtr> brightness_;  // EnhanceStats of recent frames
   int queue_size_ = 5;
   bool resolution_rule_ = true;
   int rule_width_ = 0, rule_height_ = 0;  // image size the rule was applied for

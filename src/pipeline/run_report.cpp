@@ -18,9 +18,15 @@ Percentiles percentiles(std::vector<double> v) {
   return p;
 }
 
-// The frame log's last column: why initialization failed or why the health monitor rejected the pose (no commas).
+// The frame log's last column: why the frame is too dark, why the health monitor rejected the pose, why
+// initialization failed, or after how many frames it relocalized after darkness (no commas).
 static std::string csvNote(const TrackResult& r) {
-  std::string s = !r.rejected.empty() ? r.rejected : r.init_status;
+  std::string s = !r.too_dark.empty()  ? r.too_dark
+                  : !r.rejected.empty() ? r.rejected
+                  : r.relocalized_after_frames > 0
+                      ? "relocalized after darkness at the frame " + std::to_string(r.relocalized_after_frames) +
+                            " with signal"
+                      : r.init_status;
   std::replace(s.begin(), s.end(), ',', ';');
   return s;
 }
@@ -39,7 +45,7 @@ bool RunRecorder::openFrameLog(const std::string& path, std::string* error) {
     *error = path + ": cannot write";
     return false;
   }
-  frame_log_ << "index,stamp,state,keypoints,matches,inliers,keyframe,pnp,ms_track,note\n";
+  frame_log_ << "index,stamp,state,keypoints,matches,inliers,keyframe,pnp,ms_track,mean,snr,note\n";
   return true;
 }
 
@@ -47,7 +53,8 @@ void RunRecorder::add(const FrontEndItem& it, const TrackResult& r, long process
   if (frame_log_)
     frame_log_ << it.index << "," << std::fixed << it.frame.stamp << std::defaultfloat << "," << toString(r.state)
                << "," << it.frame.keypoints.size() << "," << r.matches << "," << r.inliers << "," << r.is_keyframe
-               << "," << r.used_pnp << "," << r.timing.ms_total << "," << csvNote(r) << "\n";
+               << "," << r.used_pnp << "," << r.timing.ms_total << "," << it.frame.signal.mean << ","
+               << it.frame.signal.snr << "," << csvNote(r) << "\n";
   ms_["read"].push_back(it.ms_read);
   ms_["enhance"].push_back(it.ms_enhance);
   ms_["features"].push_back(it.ms_features);
@@ -75,6 +82,10 @@ std::string RunRecorder::summary(const RunTotals& t) const {
     << st.keyframes << ", map points " << t.map_points << ", BA runs " << st.ba_runs << " (mean "
     << (st.ba_runs ? st.ba_ms_total / st.ba_runs : 0.0) << " ms), BA CPU "
     << (st.ba_runs ? st.ba_cpu_ms_total / st.ba_runs : 0.0) << " ms per run\n";
+  if (st.dark_frames > 0 || st.relocalizations > 0)
+    s << "too dark: " << st.dark_frames << " frames in " << st.dark_events
+      << " runs (lost, no pose, map kept); relocalized in the same map " << st.relocalizations
+      << " times, at most " << st.frames_to_relocalize_max << " frames after the light returned\n";
   s << "wall " << t.wall_s << " s, " << fps(t)
     << " fps (reader, front-end, tracking and mapping threads in parallel); CPU " << t.cpu_s
     << " s = " << cpuMsPerFrame(t) << " ms/frame (all threads) -> <= " << 2000.0 / cpuMsPerFrame(t)
@@ -113,7 +124,9 @@ bool RunRecorder::writeJson(const std::string& path, const RunTotals& t, std::st
   js << "{\n  \"dataset\": \"" << t.dataset << "\",\n  \"mode\": \"" << t.mode << "\",\n  \"frames\": " << st.frames
      << ",\n  \"tracked\": " << st.tracked << ",\n  \"tracked_pct\": " << tracked_pct
      << ",\n  \"lost_frames\": " << st.lost_frames << ",\n  \"lost_events\": " << st.lost_events
-     << ",\n  \"resets\": " << st.resets << ",\n  \"keyframes\": " << st.keyframes
+     << ",\n  \"resets\": " << st.resets << ",\n  \"dark_frames\": " << st.dark_frames
+     << ",\n  \"dark_events\": " << st.dark_events << ",\n  \"relocalizations\": " << st.relocalizations
+     << ",\n  \"frames_to_relocalize_max\": " << st.frames_to_relocalize_max << ",\n  \"keyframes\": " << st.keyframes
      << ",\n  \"map_points\": " << t.map_points << ",\n  \"read_errors\": " << t.read_errors
      << ",\n  \"fps\": " << fps(t) << ",\n  \"cpu_ms_per_frame\": " << cpuMsPerFrame(t) << ",\n  \"ba_runs\": " << st.ba_runs
      << ",\n  \"ba_cpu_ms_per_run\": " << (st.ba_runs ? st.ba_cpu_ms_total / st.ba_runs : 0.0) << ",\n  \"ms\": {";

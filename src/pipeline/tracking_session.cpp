@@ -154,9 +154,16 @@ void TrackingSession::countFrame(const TrackResult& r, SessionStep* step) {
     step->messages.push_back({L::kWarn, "LOST (" + std::to_string(r.inliers) + " inliers of " +
                                             std::to_string(r.matches) + " matches" +
                                             (r.rejected.empty() ? "" : "; rejected: " + r.rejected) +
-                                            "): relocalizing, the map resets after lost_frames_before_reset frames",
+                                            (r.too_dark.empty() ? "" : "; " + r.too_dark) +
+                                            "): relocalizing, the map resets after lost_frames_before_reset frames" +
+                                            (r.too_dark.empty() ? "" : " with signal (dark_relocalization_frames)"),
                               "lost"});
   }
+  if (r.relocalized_after_frames > 0)
+    step->messages.push_back({L::kInfo,
+                              "relocalized in the same map " + std::to_string(r.relocalized_after_frames) +
+                                  " frame(s) after the light returned (" + std::to_string(r.inliers) + " inliers)",
+                              "relocalized"});
   if (r.initialized_now) {
     if (counters_.initializations > 0)
       step->messages.push_back({L::kWarn, "re-initialized: new map (" + std::to_string(r.inliers) + " inliers)",

@@ -48,6 +48,11 @@ void toMsg(const FeatureFrame& f, const std_msgs::Header& header, Features* m) {
   m->ms_threshold = static_cast<float>(s.ms_threshold);
   m->ms_detect = static_cast<float>(s.ms_detect);
   m->ms_cull = static_cast<float>(s.ms_cull);
+  m->signal_measured = f.signal.measured;
+  m->signal_mean = static_cast<float>(f.signal.mean);
+  m->signal_noise = static_cast<float>(f.signal.noise_sigma);
+  m->signal_contrast = static_cast<float>(f.signal.contrast);
+  m->signal_snr = static_cast<float>(f.signal.snr);
 }
 
 double scaleFactorFromSizes(const Features& m) {
@@ -118,6 +123,11 @@ bool fromMsg(const Features& m, FeatureFrame* f, std::string* error, std::string
   s.brightness = m.brightness;
   s.ms_threshold = m.ms_threshold;
   s.ms_detect = m.ms_detect;
+  out.signal.measured = m.signal_measured;
+  out.signal.mean = m.signal_mean;
+  out.signal.noise_sigma = m.signal_noise;
+  out.signal.contrast = m.signal_contrast;
+  out.signal.snr = m.signal_snr;
   s.ms_cull = m.ms_cull;
   *f = std::move(out);
   return true;

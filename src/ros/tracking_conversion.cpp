@@ -73,7 +73,7 @@ iraf_vo::TrackingStatusPtr toStatusMsg(const SessionStep& step, const std_msgs::
   s->time_resets = c.time_resets;
   s->dropped_frames = c.dropped;
   s->rejected_poses = c.rejected;
-  s->reason = r.rejected;
+  s->reason = !r.too_dark.empty() ? r.too_dark : r.rejected;
   s->keyframes = c.keyframes;
   s->map_keyframes = c.map_keyframes;
   s->map_points = c.map_points;

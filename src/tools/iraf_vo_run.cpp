@@ -52,7 +52,7 @@ int parseArgs(int argc, char** argv, Args* a, iraf_vo::PipelineParams* p) {
   cli.option("--frames", "N", &a->max_frames, 0, std::numeric_limits<int>::max(),
              "process frames [first, first + N) only");
   cli.option("--frame-log", "F", &a->frame_log_path,
-             "per-frame CSV: index,stamp,state,keypoints,matches,inliers,keyframe,pnp,ms_track,note\n"
+             "per-frame CSV: index,stamp,state,keypoints,matches,inliers,keyframe,pnp,ms_track,mean,snr,note\n"
              "(note: why initialization failed / why the health monitor rejected the pose)");
   cli.option("--out-final", "traj_final.txt", &a->out_final,
              "the trajectory after mapping: each tracked pose re-attached to its reference keyframe's\n"

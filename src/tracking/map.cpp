@@ -133,6 +133,17 @@ bool Map::keyframePose(long id, Eigen::Isometry3d* T_c_w) const {
   return true;
 }
 
+std::vector<std::vector<long>> Map::pointsByKeyframe() const {
+  std::lock_guard<std::mutex> lk(mutex_);
+  std::vector<std::vector<long>> out;
+  for (auto it = keyframes_.rbegin(); it != keyframes_.rend(); ++it) {
+    out.emplace_back();
+    for (long id : it->second->point_id)
+      if (id >= 0 && points_.count(id)) out.back().push_back(id);
+  }
+  return out;
+}
+
 void Map::countVisibility(const std::vector<LocalPoint>& local, const std::vector<char>& visible,
                           const std::vector<int>& keypoint_of_point) {
   std::lock_guard<std::mutex> lk(mutex_);

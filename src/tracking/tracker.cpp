@@ -11,6 +11,8 @@
 #include "iraf_vo/tracking/map_initializer.h"
 #include "iraf_vo/tracking/pose_covariance.h"
 #include "iraf_vo/tracking/pose_tracker.h"
+#include "iraf_vo/tracking/relocalizer.h"
+#include "iraf_vo/tracking/signal_check.h"
 
 #include <algorithm>
 #include <atomic>
@@ -38,6 +40,8 @@ struct Tracker::Impl {
   MapInitializer initializer;
   PoseTracker pose_tracker;
   TrackingHealthMonitor health;
+  SignalCheck signal;
+  Relocalizer relocalizer;
 
   mutable std::mutex stats_mutex;
   TrackerStats stats;  // guarded by stats_mutex (the mapper keeps its BA stats)
@@ -57,9 +61,10 @@ struct Tracker::Impl {
   bool have_last_good = false;
   Eigen::Isometry3d last_good_T_w_c = Eigen::Isometry3d::Identity();
   double last_median_depth = 1.0;
+  bool last_dark = false;  // the previous frame was too dark
 
   Impl(CameraModelPtr c, const TrackerParams& params)
-      : cam(std::move(c)), p(params), mapper(*cam, p, &map), initializer(*cam, p), pose_tracker(*cam, p), health(p) {}
+      : cam(std::move(c)), p(params), mapper(*cam, p, &map), initializer(*cam, p), pose_tracker(*cam, p), health(p), signal(p), relocalizer(*cam, p) {}
 
   template <class F>
   void updateStats(F&& f) {
@@ -70,11 +75,14 @@ struct Tracker::Impl {
   TrackResult track(const FeatureFrame& in);
   bool initializeMap(Frame& cur, TrackResult* res);
   bool trackWithMotionModel(Frame& cur, TrackResult* res);
+  bool trackFrom(Frame& cur, const Eigen::Isometry3d& T_last, const Eigen::Isometry3d& T_predicted, TrackResult* res);
+  bool relocalizeAfterDarkness(Frame& cur, TrackResult* res);
   Eigen::Matrix<double, 6, 6> initialPoseInformation(const Frame& cur) const;
   std::string checkHealth(const Frame& cur, const PoseTrackingResult& r, const Eigen::Isometry3d& T_last,
                           const Eigen::Isometry3d& T_predicted);
   bool addKeyframeIfNeeded(const Frame& cur, TrackResult* res);
   void handleLostFrame(const Frame& cur);
+  TrackResult darkFrame(SteadyClock::time_point t_start, TrackResult res);
   void resetMap();
   void onTracked(const Frame& cur, TrackResult* res, bool is_keyframe);
   TrackResult notTracked(TrackingState reported, SteadyClock::time_point t_start, TrackResult res) const {
@@ -97,6 +105,14 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in) {
   updateStats([](TrackerStats& s) { s.frames++; });
   // Bad frame: report it as not tracked, keep the state machine as is.
   if (!ok_input) return notTracked(state == TrackingState::kTracking ? TrackingState::kLost : state.load(), t_start, res);
+  res.too_dark = signal.tooDark(in.signal);
+  const bool was_dark = last_dark;
+  last_dark = !res.too_dark.empty();
+  if (last_dark) {
+    if (!was_dark) updateStats([](TrackerStats& s) { s.dark_events++; });
+    return darkFrame(t_start, res);
+  }
+  signal.lightFrame();
 
   if (state == TrackingState::kNotInitialized || state == TrackingState::kInitializing) {
     t0 = SteadyClock::now();
@@ -111,6 +127,7 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in) {
     state = TrackingState::kTracking;
     reinitializing = false;
     res.initialized_now = true;
+    signal.restart();
     health.restart();
     updateStats([](TrackerStats& s) {
       s.initializations++;
@@ -130,7 +147,7 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in) {
   // One tracking step sees one version of the map: a BA result is written back before or after it, never
   // between the pose estimate, the keyframe created from it and T_last_rel_kf (see Map::lockUpdates).
   std::unique_lock<std::mutex> map_update = map.lockUpdates();
-  if (!trackWithMotionModel(cur, &res)) {
+  if (!trackWithMotionModel(cur, &res) && !relocalizeAfterDarkness(cur, &res)) {
     map_update.unlock();
     health.restart();
     handleLostFrame(cur);
@@ -138,6 +155,16 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in) {
   }
   state = TrackingState::kTracking;
   consecutive_lost = 0;
+  res.relocalized_after_frames = signal.trackedFrame();
+  if (res.relocalized_after_frames > 0) {
+    // The motion since the last pose spans the dark frames: no velocity for the next prediction.
+    have_velocity = false;
+    health.restart();
+    updateStats([&res](TrackerStats& s) {
+      s.relocalizations++;
+      s.frames_to_relocalize_max = std::max<long>(s.frames_to_relocalize_max, res.relocalized_after_frames);
+    });
+  }
   ++frames_since_kf;
   t0 = SteadyClock::now();
   const bool new_keyframe = addKeyframeIfNeeded(cur, &res);
@@ -182,6 +209,28 @@ bool Tracker::Impl::trackWithMotionModel(Frame& cur, TrackResult* res) {
   Eigen::Isometry3d T_last = last.T_c_w, T_kf;
   if (map.keyframePose(last_ref_kf, &T_kf)) T_last = T_last_rel_kf * T_kf;
   const Eigen::Isometry3d T_predicted = have_velocity ? velocity * T_last : T_last;
+  return trackFrom(cur, T_last, T_predicted, res);
+}
+
+// After dark frames, when tracking from the last pose failed: the local map tracked from the poses the keyframe-wise
+// relocalization proposes (best first); the same inlier and health checks decide.
+bool Tracker::Impl::relocalizeAfterDarkness(Frame& cur, TrackResult* res) {
+  if (!signal.recovering()) return false;
+  const auto t0 = SteadyClock::now();
+  const std::vector<RelocalizationCandidate> candidates = relocalizer.candidates(cur, map, 3);
+  res->timing.ms_match += msSince(t0);
+  Eigen::Isometry3d T_last = last.T_c_w, T_kf;
+  if (map.keyframePose(last_ref_kf, &T_kf)) T_last = T_last_rel_kf * T_kf;
+  for (const RelocalizationCandidate& c : candidates) {
+    std::fill(cur.point_id.begin(), cur.point_id.end(), -1);  // of a rejected attempt
+    res->rejected.clear();
+    if (trackFrom(cur, T_last, c.T_c_w, res)) return res->used_pnp = true;
+  }
+  return false;
+}
+
+bool Tracker::Impl::trackFrom(Frame& cur, const Eigen::Isometry3d& T_last, const Eigen::Isometry3d& T_predicted,
+                              TrackResult* res) {
   const PoseTrackingResult r = pose_tracker.trackLocalMap(cur, T_predicted, &map);
   res->matches = r.matches;
   res->inliers = r.inliers;
@@ -263,12 +312,31 @@ void Tracker::Impl::handleLostFrame(const Frame& cur) {
     if (was_tracking) s.lost_events++;
   });
   state = TrackingState::kLost;
-  if (++consecutive_lost <= p.lost_frames_before_reset) return;
+  if (++consecutive_lost <= signal.lostFramesBeforeReset()) return;
   updateStats([](TrackerStats& s) { s.resets++; });
   resetMap();
+  signal.restart();
   initializer.setReference(cur);  // this frame starts the new initialization
   reinitializing = true;
   state = initializer.hasReference() ? TrackingState::kInitializing : TrackingState::kNotInitialized;
+}
+
+// A frame too dark to track: with a map, LOST with the map and the last pose kept for the relocalization when the
+// light returns (no reset counted); before a map exists the initialization waits for the light.
+TrackResult Tracker::Impl::darkFrame(SteadyClock::time_point t_start, TrackResult res) {
+  const bool has_map = state == TrackingState::kTracking || state == TrackingState::kLost;
+  const bool was_tracking = state == TrackingState::kTracking;
+  updateStats([&](TrackerStats& s) {
+    s.dark_frames++;
+    if (has_map || reinitializing) s.lost_frames++;
+    if (was_tracking) s.lost_events++;
+  });
+  if (!has_map) return notTracked(reinitializing ? TrackingState::kLost : state.load(), t_start, res);
+  signal.darkFrame();
+  state = TrackingState::kLost;
+  have_velocity = false;
+  health.restart();
+  return notTracked(TrackingState::kLost, t_start, res);
 }
 
 void Tracker::Impl::resetMap() {

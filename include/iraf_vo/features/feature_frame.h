@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "iraf_vo/features/image_signal.h"
+
 namespace iraf_vo {
 
 struct FeatureStats {
@@ -40,6 +42,7 @@ struct FeatureFrame {
   std::vector<float> stability;        // S of eq. 23 per kept keypoint (1 when culling is off)
   double scale_factor = 1.2;           // pyramid scale: keypoint sigma at octave o = scale_factor^o px
   FeatureStats stats;
+  ImageSignal signal;                  // of the camera's image before enhancement (measured = false if unknown)
 };
 
 }  // namespace iraf_vo

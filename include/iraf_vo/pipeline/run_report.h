@@ -42,7 +42,7 @@ struct RunTotals {
 
 class RunRecorder {
  public:
-  /// Per-frame CSV: index,stamp,state,keypoints,matches,inliers,keyframe,pnp,ms_track. false + *error.
+  /// Per-frame CSV: index,stamp,state,keypoints,matches,inliers,keyframe,pnp,ms_track,mean,snr,note. false + *error.
   bool openFrameLog(const std::string& path, std::string* error);
   /// One tracked frame (a pose goes into the trajectory when tracking).
   void add(const FrontEndItem& item, const TrackResult& r, long processed);

@@ -50,7 +50,7 @@ struct SessionMessage {
   Level level = Level::kInfo;
   std::string text;
   /// What happened, for per-kind console throttling: "drop", "time_jump", "lost", "rejected", "reinit", "reset",
-  /// "restart", "error".
+  /// "restart", "relocalized", "error".
   std::string key;
 };
 

@@ -143,6 +143,8 @@ class Map {
   /// With a camera, each point's scale-prediction reference too (LocalPoint::ref_*; predictOctave), else none.
   std::vector<LocalPoint> localPoints(const CameraModel* camera = nullptr) const;
   bool keyframePose(long id, Eigen::Isometry3d* T_c_w) const;
+  /// The ids of the map points each keyframe observes, newest keyframe first (relocalization candidates).
+  std::vector<std::vector<long>> pointsByKeyframe() const;
   /// Points seen in the frame's view (visible) and matched (found): ORB-SLAM's found ratio.
   void countVisibility(const std::vector<LocalPoint>& local, const std::vector<char>& visible,
                        const std::vector<int>& keypoint_of_point);

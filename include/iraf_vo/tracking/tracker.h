@@ -20,6 +20,10 @@
 // keyframes do not depend on the machine's load; one tracking step holds the map-update lock
 // (Map::lockUpdates), so a BA result is written back between frames.
 //
+// Darkness (signal_check.h): a frame whose image carries no usable signal is lost with a "too dark" reason and
+//   is not tracked; the map and the last pose are kept and, once the light returns, the lost-frame path below
+//   relocalizes in that map (+ the keyframe-wise Relocalizer); for dark_relocalization_frames frames after the
+//   dark ones a loss resets the map only after that many lost frames.
 // Loss recovery: a frame with < min_tracking_inliers inliers is lost (kLost; lost_frames++, and lost_events++
 //   on the transition). The next frames try relocalization (brute force against the map's points + PnP).
 //   After lost_frames_before_reset consecutive lost frames the map is cleared and initialization restarts
@@ -77,6 +81,9 @@ struct TrackResult {
   double inlier_ratio = 0.0;  // inliers / matches of the final pose refinement
   double median_chi2 = 0.0;   // of the inliers
   std::string rejected;       // why the health monitor rejected a computed pose ("" if it did not)
+  std::string too_dark;       // why the image carries no usable signal (state kLost, no pose; "" if it does)
+  int relocalized_after_frames = 0;  // > 0: tracked again in the same map after dark frames, at the n-th frame
+                                     // with signal
   std::string init_status;    // while initializing: why this frame did not initialize the map
   TrackTiming timing;
 };
@@ -90,6 +97,10 @@ struct TrackerStats {
   long initializations = 0;
   long keyframes = 0;
   long rejected = 0;               // tracked poses rejected by the health monitor (counted as lost frames)
+  long dark_frames = 0;            // frames too dark to track (counted as lost frames; the map is kept)
+  long dark_events = 0;            // runs of consecutive dark frames
+  long relocalizations = 0;        // tracked again in the same map after dark frames (no reset)
+  long frames_to_relocalize_max = 0;  // frames with signal needed by the slowest of those relocalizations
   long ba_runs = 0;
   double ba_ms_total = 0.0;        // LocalMapperStats
   double ba_cpu_ms_total = 0.0;

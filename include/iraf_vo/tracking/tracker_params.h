@@ -77,6 +77,15 @@ struct TrackerParams {
   double ba_min_fixed_span = 0.3;       // gauge: fixed keyframe centres must span >= this fraction of the window
   // ---- loss ----
   int lost_frames_before_reset = 2;
+  // ---- darkness (signal_check.h): a frame whose image carries no usable signal is LOST, the map is kept ----
+  bool dark_check = true;
+  double dark_max_mean = 40.0;          // only an image at most this bright (mean grey) can be too dark ...
+  double dark_min_snr = 1.0;            // ... it is when its estimated SNR (contrast / noise of its 4x4-pixel
+                                        // means, image_signal.h) is below this
+  double dark_min_contrast = 0.3;       // ... or the contrast of those means above the noise is below this [grey]
+  int dark_relocalization_frames = 40;  // for this many frames after dark ones a loss resets the map only after
+                                        // this many lost frames (instead of lost_frames_before_reset): the
+                                        // tracker relocalizes in the same map meanwhile
   // ---- health monitor (health_monitor.h): a pose that fails a check is reported LOST, never TRACKING ----
   bool health_monitor = true;
   double health_min_inlier_ratio = 0.5;    // inliers / matches of the final pose refinement

@@ -1,0 +1,55 @@
+// Darkness: whether a frame's image carries a usable signal, and the relocalization in the same map once the
+// light returns (tracking thread; ROS-free).
+//
+// A frame is too dark when its image (ImageSignal, measured by the front-end before enhancement) has a mean grey of
+// at most dark_max_mean and an estimated SNR below dark_min_snr or a contrast above the noise below
+// dark_min_contrast. Such a frame is not tracked at all: it is LOST with the reason ("too dark: mean 3, estimated
+// SNR 0.8"), gives no pose, and neither counts towards the reset nor touches the map, the mapper or the
+// initializer. When the light returns the tracker relocalizes in the map it kept (same scale, same world frame):
+// the pose tracker's projection search around the last pose (normal, then wide window, then brute-force matching
+// against all map points + PnP), then the keyframe-wise Relocalizer (relocalizer.h). Within
+// dark_relocalization_frames frames after the last dark one a loss resets the map only after that many
+// consecutive lost frames (instead of lost_frames_before_reset).
+#pragma once
+
+#include <iraf_vo/features/image_signal.h>
+#include <iraf_vo/tracking/tracker_params.h>
+
+#include <string>
+
+namespace iraf_vo {
+
+class SignalCheck {
+ public:
+  explicit SignalCheck(const TrackerParams& params) : p_(params) {}
+
+  /// "" when the image can be tracked (or carries no estimate), else why not, e.g.
+  /// "too dark: mean 3, estimated SNR 0.8".
+  std::string tooDark(const ImageSignal& s) const;
+
+  /// A dark frame while a map exists: recovery in the same map follows once the light returns.
+  void darkFrame() { recovering_ = true, relocalized_ = false, frames_since_dark_ = 0; }
+  /// A frame with signal (called for every such frame before it is tracked).
+  void lightFrame() {
+    if (recovering_ && ++frames_since_dark_ > p_.dark_relocalization_frames) restart();
+  }
+  /// Consecutive lost frames allowed before the map is reset: dark_relocalization_frames within that many frames
+  /// after dark ones (the light's return is a transient: the auto-exposure overshoots, a first relocalized pose
+  /// may be lost again), else lost_frames_before_reset.
+  int lostFramesBeforeReset() const;
+  /// A tracked frame: the number of frames with signal it took to relocalize after darkness (1 = the first frame
+  /// after the dark ones) for the first tracked frame after dark ones, else 0.
+  int trackedFrame();
+  /// The map was reset or re-initialized: no recovery pending.
+  void restart() { recovering_ = false, relocalized_ = false, frames_since_dark_ = 0; }
+  /// Within dark_relocalization_frames frames after dark ones.
+  bool recovering() const { return recovering_; }
+
+ private:
+  const TrackerParams& p_;
+  bool recovering_ = false;
+  bool relocalized_ = false;   // tracked again since the last dark frame
+  int frames_since_dark_ = 0;  // frames with signal since the last dark frame
+};
+
+}  // namespace iraf_vo

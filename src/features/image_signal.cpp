@@ -1,0 +1,60 @@
+#include "iraf_vo/features/image_signal.h"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+#include <vector>
+
+namespace iraf_vo {
+
+namespace {
+
+constexpr int kBlock = 4;           // the estimate is made on kBlock x kBlock means
+constexpr int kHistogramBins = 4096;  // |mask response| histogram, in 1/16 grey levels (larger values: last bin)
+constexpr float kBinsPerGrey = 16.0f;
+
+// The median of |mask response| from its histogram, interpolated inside the bin that holds it.
+double histogramMedian(const std::vector<long>& hist, long total) {
+  const double half = 0.5 * static_cast<double>(total);
+  long below = 0;
+  for (size_t v = 0; v < hist.size(); ++v) {
+    if (hist[v] > 0 && static_cast<double>(below + hist[v]) >= half)
+      return (static_cast<double>(v) + (half - static_cast<double>(below)) / static_cast<double>(hist[v])) /
+             kBinsPerGrey;
+    below += hist[v];
+  }
+  return static_cast<double>(hist.size()) / kBinsPerGrey;
+}
+
+}  // namespace
+
+ImageSignal measureImageSignal(const cv::Mat& gray) {
+  ImageSignal s;
+  if (gray.empty() || gray.type() != CV_8UC1 || gray.rows < 3 * kBlock || gray.cols < 3 * kBlock) return s;
+  cv::Mat as_float, small;  // in float: 8-bit means would be rounded back to whole grey levels
+  gray.convertTo(as_float, CV_32F);
+  cv::resize(as_float, small, cv::Size(gray.cols / kBlock, gray.rows / kBlock), 0, 0, cv::INTER_AREA);
+  cv::Scalar mean, stddev;
+  cv::meanStdDev(small, mean, stddev);
+  std::vector<long> hist(kHistogramBins, 0);
+  long total = 0;
+  for (int y = 1; y + 1 < small.rows; ++y) {
+    const float* a = small.ptr<float>(y - 1);
+    const float* b = small.ptr<float>(y);
+    const float* c = small.ptr<float>(y + 1);
+    for (int x = 1; x + 1 < small.cols; ++x) {
+      const float r = (a[x - 1] + a[x + 1] + c[x - 1] + c[x + 1]) - 2 * (a[x] + c[x] + b[x - 1] + b[x + 1]) + 4 * b[x];
+      ++hist[std::min(static_cast<int>(std::abs(r) * kBinsPerGrey), kHistogramBins - 1)];
+      ++total;
+    }
+  }
+  s.measured = true;
+  s.mean = mean[0];
+  const double quantization = 1.0 / (kBlock * std::sqrt(12.0));
+  s.noise_sigma = std::max(quantization, 1.4826 * histogramMedian(hist, total) / 6.0);
+  s.contrast = std::sqrt(std::max(0.0, stddev[0] * stddev[0] - s.noise_sigma * s.noise_sigma));
+  s.snr = s.contrast / s.noise_sigma;
+  return s;
+}
+
+}  // namespace iraf_vo
