@@ -17,7 +17,8 @@
 //   matched    share whose true match (the nearest such keypoint) has a descriptor distance <= 50 (ORB-SLAM TH_LOW)
 //   hamming    mean descriptor distance of the true matches
 // --gains A,B: frame i is multiplied by A and frame i+K by B (saturating at 255) before the front-end: an exposure
-// step between two frames with the geometry unchanged. --csv: one row per mode and pair.
+// step between two frames with the geometry unchanged. --csv: one row per mode and pair (with the enhancement's
+// brightness class of both frames: -1 dim, 0 normal, 1 bright).
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/video/tracking.hpp>
@@ -194,7 +195,8 @@ int main(int argc, char** argv) {
   if (!a.csv.empty()) {
     csv.open(a.csv);
     if (!csv) return std::fprintf(stderr, "iraf_vo_repeatability: cannot write %s\n", a.csv.c_str()), 1;
-    csv << "mode,frame,keypoints_a,keypoints_b,reference,repeated,matched,repeatability,mean_hamming\n";
+    csv << "mode,frame,keypoints_a,keypoints_b,reference,repeated,matched,repeatability,mean_hamming,brightness_a,"
+           "brightness_b\n";
   }
   const cv::Rect2f area = detectionArea(images[0].cols, images[0].rows);
   const auto scaled = [](const cv::Mat& img, double g) {
@@ -230,7 +232,8 @@ int main(int argc, char** argv) {
       r.per_pair.push_back(st.repeatability());
       if (csv)
         csv << r.name << ',' << a.first + i0 << ',' << st.keypoints_a << ',' << st.keypoints_b << ',' << st.reference
-            << ',' << st.repeated << ',' << st.matched << ',' << st.repeatability() << ',' << st.meanHamming() << '\n';
+            << ',' << st.repeated << ',' << st.matched << ',' << st.repeatability() << ',' << st.meanHamming() << ','
+            << fa.stats.brightness << ',' << fb.stats.brightness << '\n';
     }
   }
   std::printf("iraf_vo_repeatability: %zu pairs (gap %d) of %s (flow from %s)%s, radius %.1f px\n", pairs, a.gap,

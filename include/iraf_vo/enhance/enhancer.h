@@ -37,6 +37,10 @@ struct EnhanceParams {
   // eqs. (9)-(10): brightness classification.
   double mu_expected = 112.0;         // expected mean intensity; 112 generic, 50 used for EuRoC
   double brightness_threshold = 0.3;  // |t| above this -> dim (t < 0) or bright (t > 0)
+  // The gamma correction of a dim / bright image is weighted by min(1, (|t| - brightness_threshold) /
+  // brightness_ramp): 0 at the class boundary, so the output changes continuously with the exposure instead of
+  // jumping when t crosses the threshold. 0 = the paper's hard switch (full weight as soon as |t| > threshold).
+  double brightness_ramp = 0.1;
 
   // eqs. (5)-(7) for dim images: smoothness lambda and lower gamma bound tau.
   double dim_lambda = 0.75;
@@ -59,6 +63,7 @@ struct EnhanceResult {
   BrightnessClass brightness = BrightnessClass::kNormal;
   double mu = 0.0;  // eq. (9)
   double t = 0.0;   // eq. (10)
+  double gamma_weight = 0.0;  // weight of the gamma correction actually applied (0 for a normal image; brightness_ramp)
   double ms = 0.0;  // wall time spent in enhance()
 };
 
@@ -78,6 +83,10 @@ std::array<double, 256> histogram256(const cv::Mat& gray);
 
 /// eqs. (9)-(10).
 BrightnessClass classifyBrightness(double mu, const EnhanceParams& cfg, double* t);
+
+/// Weight of the gamma correction at eq. (10)'s t: 0 for |t| <= brightness_threshold, then
+/// min(1, (|t| - brightness_threshold) / brightness_ramp) (1 when brightness_ramp is 0).
+double gammaWeight(double t, const EnhanceParams& cfg);
 
 /// Stateless apart from a CLAHE object reused between frames; one instance per thread.
 class Enhancer {
