@@ -7,6 +7,8 @@
 #                        [--presets "clean dark ..."] [--no-sim] [--no-euroc] [--threaded]
 #                        [--scenarios "drive slider ..."] [--scenario-modes "iraf ..."] [--scenario-frames N]
 #                        [--scenario-preset clean|dark|...] [--no-scenarios]
+#                        [--light-presets "night ae_hunting ..."] [--light-cameras "pinhole fisheye"] [--light-frames N]
+#                        [--light-seed S] [--no-light] [--no-repeatability]
 #                        [--dataset PATH [--topic T] [--gt GT] [--camera sensor.yaml]] ...
 #
 # Sequences (default set, ~13 min on the 2-core development machine, + ~4 min once to simulate the scenarios):
@@ -14,7 +16,15 @@
 #   euroc_*        ../shared/data/euroc_mh01_600 beside the checkout (if present), frames 0-305 (the moving part):
 #                  clean and degraded with iraf_vo_degrade profiles dark and mixed (+ flicker, overexposed with --full;
 #                  the profiles' events span all 600 frames, so e.g. flicker starts at frame 300)
+#   sim_<light>_<camera>  the camera-model light presets night, ae_hunting, light_switch, blackout, flashlight, glare
+#                  (auto-exposure, shot / read noise, gain, clipping) x --light-cameras pinhole fisheye, --light-frames
+#                  (default 200), --light-seed (default 0)
+#   euroc_*        also degraded with the camera-model profiles ae_hunting and night (+ the other light profiles with
+#                  --full)
 #   any --dataset  ASL folder or rosbag (with --topic); --gt for ATE; --camera for bags
+# Repeatability (front-end consistency, iraf_vo_repeatability in every --modes mode) on each light sequence: keypoints
+# of frame i re-detected in frame i+1 within 2 px of where the clean render of the same motion (EuRoC: the original
+# frames) says the point went -> repeatability.md, appended to report.md (--no-repeatability skips it).
 # Scenarios (other cameras and motions, iraf_vo_simulate --motion; run in --scenario-modes, default iraf only;
 # each motion's default length unless --scenario-frames; photometric --scenario-preset, default clean):
 #   drive                  street, KITTI-like 1241x376 pinhole, 10 Hz, ~1 m/frame, gentle turns (100 frames)
@@ -42,7 +52,12 @@ sim_frames=""
 euroc_frames=""
 modes="baseline he clahe enhance adaptive culling iraf"
 presets="clean dark flicker mixed overexposed"
-euroc_profiles="dark mixed"
+euroc_profiles="dark mixed ae_hunting night"
+light_presets="night ae_hunting light_switch blackout flashlight glare"
+light_cameras="pinhole fisheye"
+light_frames=200
+light_seed=0
+do_repeat=1
 do_sim=1
 do_euroc=1
 threaded=0
@@ -71,6 +86,12 @@ while [[ $# -gt 0 ]]; do
     --scenario-frames) need "$@"; scenario_frames="$2"; shift 2 ;;
     --scenario-preset) need "$@"; scenario_preset="$2"; shift 2 ;;
     --no-scenarios) scenarios=""; shift ;;
+    --light-presets) need "$@"; light_presets="$2"; shift 2 ;;
+    --light-cameras) need "$@"; light_cameras="$2"; shift 2 ;;
+    --light-frames) need "$@"; light_frames="$2"; shift 2 ;;
+    --light-seed) need "$@"; light_seed="$2"; shift 2 ;;
+    --no-light) light_presets=""; shift ;;
+    --no-repeatability) do_repeat=0; shift ;;
     --dataset) need "$@"; ext_paths+=("$2"); ext_topics+=(""); ext_gts+=(""); ext_cams+=(""); shift 2 ;;
     --topic|--gt|--camera)
       need "$@"; [[ ${#ext_paths[@]} -gt 0 ]] || die "$1 must follow a --dataset"
@@ -84,7 +105,15 @@ if [[ -z "$euroc_frames" ]]; then euroc_frames=306; [[ $full == 1 ]] && euroc_fr
 [[ "$euroc_frames" =~ ^[0-9]+$ && "$euroc_frames" -ge 30 ]] || die "--euroc-frames '$euroc_frames': expected an integer"
 if [[ -z "$sim_frames" ]]; then sim_frames=300; [[ $full == 1 ]] && sim_frames=400; fi
 [[ "$sim_frames" =~ ^[0-9]+$ && "$sim_frames" -ge 60 ]] || die "--sim-frames '$sim_frames': expected an integer >= 60"
-[[ $full == 1 ]] && euroc_profiles="dark mixed flicker overexposed"
+[[ $full == 1 ]] && euroc_profiles="dark mixed flicker overexposed ae_hunting night light_switch blackout flashlight glare"
+[[ "$light_frames" =~ ^[0-9]+$ && "$light_frames" -ge 60 ]] || die "--light-frames '$light_frames': expected an integer >= 60"
+[[ "$light_seed" =~ ^[0-9]+$ ]] || die "--light-seed '$light_seed': expected an integer >= 0"
+for p in $light_presets; do
+  case "$p" in night|ae_hunting|light_switch|blackout|flashlight|glare) ;; *) die "--light-presets: unknown preset '$p'" ;; esac
+done
+for c in $light_cameras; do
+  case "$c" in pinhole|fisheye) ;; *) die "--light-cameras: unknown camera '$c'" ;; esac
+done
 for m in $modes $scenario_modes; do
   case "$m" in baseline|he|clahe|enhance|adaptive|culling|iraf) ;; *) die "--modes: unknown mode '$m'" ;; esac
 done
@@ -102,7 +131,8 @@ done
 export PATH=/usr/bin:$PATH
 build="${IRAF_VO_BUILD_DIR:-$repo/build}"
 bin="$build/devel/lib/iraf_vo"
-tools="iraf_vo_run iraf_vo_eval iraf_vo_simulate iraf_vo_degrade iraf_vo_keypoint_curve iraf_vo_draw_keypoints"
+tools="iraf_vo_run iraf_vo_eval iraf_vo_simulate iraf_vo_degrade iraf_vo_keypoint_curve iraf_vo_draw_keypoints
+       iraf_vo_repeatability"
 missing=0
 for t in $tools; do [[ -x "$bin/$t" ]] || missing=1; done
 if [[ $missing == 1 ]]; then
@@ -132,6 +162,31 @@ if [[ $do_sim == 1 ]]; then
     seqs+=("sim_$p|$d|$d/groundtruth.txt|0|$sim_frames||")
   done
 fi
+# Light presets: name|sequence dir|clean reference dir (same motion, camera, frames, seed) for the repeatability.
+declare -a light_refs=()
+sim_light() {  # sim_light DIR PRESET CAMERA: renders DIR once (cached with .done)
+  local d="$1" p="$2" c="$3"
+  if [[ ! -f "$d/.done" ]]; then
+    log "simulating preset $p, $c camera ($light_frames frames, seed $light_seed) -> $d"
+    rm -rf "$d"
+    "$bin/iraf_vo_simulate" --preset "$p" --camera "$c" --frames "$light_frames" --seed "$light_seed" --out "$d" \
+      > "$d.log" 2>&1 || { cat "$d.log" >&2; die "iraf_vo_simulate --preset $p --camera $c failed"; }
+    touch "$d/.done"
+  fi
+}
+if [[ $do_sim == 1 ]]; then
+  for c in $light_cameras; do
+    [[ -n "$light_presets" ]] || break
+    ref="$out/data/sim_clean_${c}_${light_frames}_s$light_seed"
+    [[ $do_repeat == 1 ]] && sim_light "$ref" clean "$c"
+    for p in $light_presets; do
+      d="$out/data/sim_${p}_${c}_${light_frames}_s$light_seed"
+      sim_light "$d" "$p" "$c"
+      seqs+=("sim_${p}_$c|$d|$d/groundtruth.txt|0|$light_frames||")
+      light_refs+=("sim_${p}_$c|$d|$ref|$light_frames")
+    done
+  done
+fi
 if [[ $do_euroc == 1 ]]; then
   if [[ -d "$euroc" ]]; then
     egt="$euroc/groundtruth/groundtruth_tum_cam0.txt"
@@ -146,6 +201,7 @@ if [[ $do_euroc == 1 ]]; then
         touch "$d/.done"
       fi
       seqs+=("euroc_$p|$d|$d/groundtruth/groundtruth_tum_cam0.txt|0|$euroc_frames||")
+      case "$p" in ae_hunting|night|light_switch|blackout|flashlight|glare) light_refs+=("euroc_$p|$d|$euroc|$euroc_frames") ;; esac
     done
   else
     log "no EuRoC frames at $euroc: skipping the EuRoC sequences"
@@ -262,6 +318,35 @@ for s in "${scen[@]}"; do
   for m in $scenario_modes; do run_one "$out/scenarios.csv" "$name" "$path" "$gt" 0 "" "" "" "$m"; done
 done
 
+# ---- repeatability of the front-end on the light sequences (iraf_vo_repeatability, every --modes mode) ----
+rm -f "$out/repeatability.md"
+if [[ $do_repeat == 1 && ${#light_refs[@]} -gt 0 ]]; then
+  {
+    echo
+    echo "## Front-end repeatability on the light sequences"
+    echo
+    echo "Keypoints of frame i re-detected in frame i+1 within 2 px (and +-1 pyramid level) of where the clean"
+    echo "reference (the clean render of the same motion; EuRoC: the original frames) says the point went"
+    echo "(iraf_vo_repeatability, pooled over the pairs; p10 = 10th percentile over the pairs; matched = true"
+    echo "matches with descriptor distance <= 50; hamming = mean descriptor distance of the true matches)."
+    echo
+    echo "| sequence | mode | keypoints | repeatability | p10 | matched | hamming |"
+    echo "|---|---|---|---|---|---|---|"
+  } > "$out/repeatability.md"
+  for s in "${light_refs[@]}"; do
+    IFS='|' read -r name path ref frames <<< "$s"
+    log "repeatability of $name (reference $ref)"
+    mkdir -p "$out/runs/$name"
+    if "$bin/iraf_vo_repeatability" --dataset "$path" --reference "$ref" --frames "$frames" --modes "$modes" \
+         --csv "$out/runs/$name/repeatability.csv" > "$out/runs/$name/repeatability.txt" 2>&1; then
+      awk -v n="$name" 'NR > 2 { printf "| %s | %s | %s | %s | %s | %s | %s |\n", n, $1, $2, $3, $4, $5, $6 }' \
+        "$out/runs/$name/repeatability.txt" >> "$out/repeatability.md"
+    else
+      log "iraf_vo_repeatability failed on $name (see $out/runs/$name/repeatability.txt)"
+    fi
+  done
+fi
+
 # ---- figure inputs ----
 if [[ -d "$shared/lowlight_stills" ]]; then
   log "keypoint curve on $shared/lowlight_stills (Fig. 3)"
@@ -306,4 +391,5 @@ if [[ ${#scen[@]} -gt 0 ]]; then
   python3 "$here/sim_scenarios.py" --out "$out"
   cat "$out/scenarios.md" >> "$out/report.md"
 fi
+[[ -f "$out/repeatability.md" ]] && cat "$out/repeatability.md" >> "$out/report.md"
 log "done: $out/report.md"

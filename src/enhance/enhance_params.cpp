@@ -30,6 +30,9 @@ const ParamTable<EnhanceParams>& enhanceParamTable() {
                       "eq. 10: expected mean intensity (112 generic; 50 used for EuRoC)"),
           doubleParam("brightness_threshold", &P::brightness_threshold, 0.0, 2.0,
                       "eq. 10: |t| above this -> dim or bright (authors' code: 0.3)"),
+          doubleParam("brightness_ramp", &P::brightness_ramp, 0.0, 2.0,
+                      "Gamma correction weight min(1, (|t| - brightness_threshold) / ramp): continuous across the "
+                      "class boundary under exposure changes; 0 = the paper's hard switch"),
           doubleParam("dim_lambda", &P::dim_lambda, 0.01, 2.0,
                       "eq. 5: smoothness lambda for dim images (authors' code: 0.75)"),
           doubleParam("dim_tau", &P::dim_tau, 0.01, 1.0,

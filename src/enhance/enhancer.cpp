@@ -73,6 +73,12 @@ BrightnessClass classifyBrightness(double mu, const EnhanceParams& cfg, double* 
   return tt < 0.0 ? BrightnessClass::kDim : BrightnessClass::kBright;
 }
 
+double gammaWeight(double t, const EnhanceParams& cfg) {
+  const double over = std::abs(t) - cfg.brightness_threshold;
+  if (over <= 0.0) return 0.0;
+  return cfg.brightness_ramp > 0.0 ? std::min(1.0, over / cfg.brightness_ramp) : 1.0;
+}
+
 #if defined(IRAF_VO_AVX512_KERNELS)
 namespace blend_avx512 {
 int blendRow(const uint8_t* pi, const uint8_t* pb, const uint8_t* pg, float wi, float wb, float wg, int n,
@@ -193,13 +199,16 @@ EnhanceResult Enhancer::enhance(const cv::Mat& gray, const EnhanceParams& cfg) {
         const auto lut = agcwdLut(h, bright ? cfg.bright_lambda : cfg.dim_lambda, bright ? cfg.bright_tau : cfg.dim_tau);
         applyLut(blurred_, lut, bright, gamma_);
         gamma_img = &gamma_;
+        res.gamma_weight = gammaWeight(res.t, cfg);
       }
 
-      // eqs. (11)-(12) in float, saturated once:
-      //   I' = B + epsilon * (G - B) + eta * (I - B) = eta*I + (1 - epsilon - eta)*B + epsilon*G
+      // eqs. (11)-(12) in float, saturated once, with the gamma term weighted by w = res.gamma_weight (1 unless
+      // brightness_ramp > 0; G = B for a normal image, where w does not matter):
+      //   I' = B + w epsilon * (G - B) + eta * (I - B) = eta*I + (1 - w epsilon - eta)*B + w epsilon*G
+      const double eps = cfg.epsilon * (gamma_img == &gamma_ ? res.gamma_weight : 1.0);
       const float wi = static_cast<float>(cfg.eta);
-      const float wb = static_cast<float>(1.0 - cfg.epsilon - cfg.eta);
-      const float wg = static_cast<float>(cfg.epsilon);
+      const float wb = static_cast<float>(1.0 - eps - cfg.eta);
+      const float wg = static_cast<float>(eps);
       res.image.create(gray.size(), CV_8UC1);
       for (int r = 0; r < gray.rows; ++r)
         blendRow(gray.ptr<uint8_t>(r), blurred_.ptr<uint8_t>(r), gamma_img->ptr<uint8_t>(r), wi, wb, wg, gray.cols,

@@ -27,6 +27,10 @@ struct EnhanceParams {
   // eqs. (9)-(10): brightness classification.
   double mu_expected = 112.0;         // expected mean intensity; 112 generic, 50 used for EuRoC
   double brightness_threshold = 0.3;  // |t| above this -> dim (t < 0) or bright (t > 0)
+  // The gamma correction of a dim / bright image is weighted by min(1, (|t| - brightness_threshold) /
+  // brightness_ramp): 0 at the class boundary, so the output changes continuously with the exposure instead of
+  // jumping when t crosses the threshold. 0 = the paper's hard switch (full weight as soon as |t| > threshold).
+  double brightness_ramp = 0.1;
 
   // eqs. (5)-(7) for dim images: smoothness lambda and lower gamma bound tau.
   double dim_lambda = 0.75;

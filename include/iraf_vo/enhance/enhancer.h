@@ -26,6 +26,7 @@ struct EnhanceResult {
   BrightnessClass brightness = BrightnessClass::kNormal;
   double mu = 0.0;  // eq. (9)
   double t = 0.0;   // eq. (10)
+  double gamma_weight = 0.0;  // weight of the gamma correction actually applied (0 for a normal image; brightness_ramp)
   double ms = 0.0;  // wall time spent in enhance()
 };
 
@@ -42,6 +43,10 @@ std::array<double, 256> histogram256(const cv::Mat& gray);
 
 /// eqs. (9)-(10).
 BrightnessClass classifyBrightness(double mu, const EnhanceParams& cfg, double* t);
+
+/// Weight of the gamma correction at eq. (10)'s t: 0 for |t| <= brightness_threshold, then
+/// min(1, (|t| - brightness_threshold) / brightness_ramp) (1 when brightness_ramp is 0).
+double gammaWeight(double t, const EnhanceParams& cfg);
 
 /// Stateless apart from a CLAHE object reused between frames; one instance per thread.
 class Enhancer {
