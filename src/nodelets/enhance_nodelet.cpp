@@ -92,6 +92,13 @@ class EnhanceNodelet : public StageNodelet<EnhanceParams, iraf_vo::EnhanceConfig
         last_problem_ = problem;
         NODELET_ERROR_THROTTLE(5.0, "enhance: rejecting frame (stamp %.3f, frame '%s'): %s", header.stamp.toSec(),
                                header.frame_id.c_str(), problem.c_str());
+        if (stats_pub_.getNumSubscribers() > 0) {  // the graph knows the frame arrived (not "missed")
+          iraf_vo::EnhanceStatsPtr st = boost::make_shared<iraf_vo::EnhanceStats>();
+          st->header = header;
+          st->rejected = true;
+          st->problem = problem;
+          stats_pub_.publish(st);
+        }
         return;
       }
     }

@@ -153,7 +153,7 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     std::lock_guard<std::mutex> lock(mutex_);
     const double now = ros::WallTime::now().toSec();
     const int64_t stamp_ns = static_cast<int64_t>(msg->header.stamp.toNSec());
-    for (const SessionMessage& m : monitor_.onInput(now, stamp_ns)) log(m);
+    for (const SessionMessage& m : monitor_.onInput(now, stamp_ns, msg->rejected_before)) log(m);
     if (!session_) return;  // no calibration: timerCb reports why
     FeatureFrame frame;
     std::string err, warning;

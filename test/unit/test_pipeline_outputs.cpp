@@ -4,6 +4,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <random>
 
 #include "iraf_vo/pipeline/anchored_trajectory.h"
 #include "iraf_vo/pipeline/odometry_output.h"
@@ -136,6 +137,57 @@ TEST(StampGapCounter, OverloadedBurstKeepsTheTruePeriod) {
   for (int i = 0; i < 200; ++i)
     if (i < 3 || i % 10 == 0) g.update(i * 5 * ms), ++received;
   EXPECT_EQ(g.missed() + received, 200 - 9);  // frames after the last received one are unknown
+}
+
+TEST(StampGapCounter, JitteredHealthyStreamHasNoMissedFrames) {
+  // 20 Hz with +-8 ms of stamp jitter (uniform): steps of 34..66 ms are not gaps. The smallest recent step as the
+  // period (35 ms) made 45 of 200 frames "missed".
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> jitter(-8000, 8000);  // us
+  const auto stamp = [&](int i) { return static_cast<int64_t>(i) * 50000000LL + jitter(rng) * 1000LL; };
+  StampGapCounter healthy;
+  for (int i = 0; i < 200; ++i) healthy.update(stamp(i));
+  EXPECT_EQ(healthy.missed(), 0);
+  EXPECT_NEAR(healthy.period(), 0.05, 0.004);
+  // The same jittered stream with real drops: 1 frame at 60, 3 frames at 120-122, counted exactly.
+  StampGapCounter dropping;
+  for (int i = 0; i < 200; ++i)
+    if (i != 60 && (i < 120 || i > 122)) dropping.update(stamp(i));
+  EXPECT_EQ(dropping.missed(), 4);
+}
+
+TEST(StampGapCounter, FramesRejectedByTheGraphAreNotMissed) {
+  StampGapCounter g;
+  const int64_t ms = 1000000;
+  for (int i = 0; i < 10; ++i) g.update(i * 50 * ms);
+  EXPECT_EQ(g.update(600 * ms, 2), 0);  // frames 10 and 11 arrived and were rejected upstream (size guard)
+  EXPECT_EQ(g.update(750 * ms, 1), 1);  // 2 missing, 1 of them rejected
+  EXPECT_EQ(g.missed(), 1);
+}
+
+TEST(StampGapCounter, TimeJumpBackRestartsTheCount) {
+  // A looped bag: after the jump back, gaps are counted again at once (they were ignored until the stamps passed
+  // the first loop's last one).
+  StampGapCounter g;
+  const int64_t ms = 1000000;
+  for (int i = 0; i < 100; ++i) g.update(i * 50 * ms);
+  for (int i = 0; i < 100; ++i)
+    if (i != 30 && i != 31) g.update(i * 50 * ms);
+  EXPECT_EQ(g.missed(), 2);
+  // A late frame (small step back) changes nothing.
+  EXPECT_EQ(g.update(4900 * ms), 0);
+  EXPECT_EQ(g.update(5000 * ms), 0);
+  EXPECT_EQ(g.missed(), 2);
+}
+
+TEST(StampGapCounter, ACameraRateChangeIsNotAnEndlessOverload) {
+  StampGapCounter g(20);
+  const int64_t ms = 1000000;
+  int64_t t = 0;
+  for (int i = 0; i < 30; ++i) g.update(t += 50 * ms);  // 20 Hz
+  for (int i = 0; i < 100; ++i) g.update(t += 100 * ms);  // then 10 Hz
+  EXPECT_EQ(g.missed(), 19);  // one per long step until `window` of them in a row re-estimate the period
+  EXPECT_NEAR(g.period(), 0.1, 1e-9);
 }
 
 TEST(RunMonitor, RatesThrottleAndHealth) {
