@@ -15,6 +15,7 @@
 
 #include "iraf_vo/Features.h"
 #include "iraf_vo/TrackerConfig.h"
+#include "iraf_vo/pipeline/input_watchdog.h"
 #include "iraf_vo/pipeline/run_monitor.h"
 #include "iraf_vo/pipeline/pipeline_params.h"
 #include "iraf_vo/ros/camera_source.h"
@@ -58,6 +59,9 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     pnh.param("use_rectified", info_opts.use_rectified, false);
     pnh.param<std::string>("camera_file", camera_file, "");
     pnh.param("resolution_rule", resolution_rule_, true);
+    double input_timeout = 3.0;
+    pnh.param("input_timeout", input_timeout, 3.0);
+    watchdog_.setDeadAfter(input_timeout);
     path_publish_every_ = std::max(1, path_publish_every_);
 
     readStartupParams(TrackerParams(), [](const TrackerParams& p) { return validate(p); });  // ~name: YAML tracker:
@@ -81,6 +85,20 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     });
     timer_ = nh.createWallTimer(ros::WallDuration(1.0), &TrackerNodelet::timerCb, this);
     sub_ = nh.subscribe("features", queue_size, &TrackerNodelet::featuresCb, this);
+    {
+      std::lock_guard<std::mutex> lock(watchdog_mutex_);
+      watchdog_.arm(sub_.getTopic(), ros::WallTime::now().toSec());
+    }
+    // Silence on the features topic: an error after ~input_timeout s (the enhance nodelet warns about the camera).
+    watchdog_timer_ = nh.createWallTimer(ros::WallDuration(0.1), [this](const ros::WallTimerEvent&) {
+      std::vector<SessionMessage> messages;
+      {
+        std::lock_guard<std::mutex> lock(watchdog_mutex_);
+        messages = watchdog_.check(ros::WallTime::now().toSec());
+      }
+      for (const SessionMessage& m : messages)
+        if (m.level == SessionMessage::Level::kError) NODELET_ERROR("tracker: %s", m.text.c_str());
+    });
   }
 
   void startSession(const CameraModelPtr& cam, const std::string& why) {
@@ -112,9 +130,14 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& d) {
     std::lock_guard<std::mutex> lock(mutex_);
     const CameraModelPtr cam = camera_src_.camera();
-    fillDiagnostics(monitor_.health(camera_src_.reason(), cam ? cam->describe() : "",
-                                    session_ ? session_->counters() : SessionCounters(), ros::WallTime::now().toSec()),
-                    d);
+    const double now = ros::WallTime::now().toSec();
+    HealthReport r = monitor_.health(camera_src_.reason(), cam ? cam->describe() : "",
+                                     session_ ? session_->counters() : SessionCounters(), now);
+    std::string silence;
+    std::lock_guard<std::mutex> wlock(watchdog_mutex_);
+    const HealthReport::Level l = watchdog_.level(now, &silence);
+    if (l >= r.level && l != HealthReport::kOk) r.level = l, r.summary = silence;
+    fillDiagnostics(r, d);
   }
 
   bool hasListeners() override { return true; }  // the sink of the graph: always subscribed
@@ -154,6 +177,10 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     const double now = ros::WallTime::now().toSec();
     const int64_t stamp_ns = static_cast<int64_t>(msg->header.stamp.toNSec());
     for (const SessionMessage& m : monitor_.onInput(now, stamp_ns, msg->rejected_before)) log(m);
+    {
+      std::lock_guard<std::mutex> wlock(watchdog_mutex_);
+      for (const SessionMessage& m : watchdog_.onFrame(now, monitor_.period())) NODELET_INFO("tracker: %s", m.text.c_str());
+    }
     if (!session_) return;  // no calibration: timerCb reports why
     FeatureFrame frame;
     std::string err, warning;
@@ -222,7 +249,9 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
   ros::Subscriber sub_;
   ros::Publisher odom_pub_, path_pub_, points_pub_, keyframes_pub_, status_pub_;
   ros::ServiceServer save_srv_, reset_srv_;
-  ros::WallTimer timer_;
+  ros::WallTimer timer_, watchdog_timer_;
+  std::mutex watchdog_mutex_;  // watchdog_ (frame callback, its timer, diagnostics)
+  InputWatchdog watchdog_{"features"};
   std::shared_ptr<tf2_ros::TransformBroadcaster> tf_;
   tf2_ros::Buffer tf_buffer_;
   std::shared_ptr<tf2_ros::TransformListener> tf_listener_;

@@ -1,10 +1,12 @@
-// rostest of EnhanceNodelet: encodings, bad input, lazy subscription, live dynamic_reconfigure.
+// rostest of EnhanceNodelet: encodings, bad input, lazy subscription, live dynamic_reconfigure, a stopped camera.
 #include <gtest/gtest.h>
 
 #include "common/wait_for.h"
 
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <dynamic_reconfigure/client.h>
 #include <ros/ros.h>
+#include <rosgraph_msgs/Log.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/image_encodings.h>
 
@@ -158,6 +160,56 @@ TEST_F(EnhanceNodeletTest, LazySubscriptionEncodingsBadInputAndLiveTuning) {
   const auto passthrough = roundTrip(img, enc::MONO8, id++);
   ASSERT_TRUE(passthrough);
   EXPECT_EQ(cv::norm(toMat(*passthrough), img, cv::NORM_INF), 0.0);
+}
+
+// A camera that stops publishing: a ROS_WARN naming the topic within 3 periods of the last frame, /diagnostics
+// "enhance: input" ERROR naming it after ~input_timeout (1 s here), not any more when frames return (the earlier
+// test's bad frames keep it at WARN "frames rejected").
+TEST_F(EnhanceNodeletTest, AStoppedCameraIsReported) {
+  std::mutex m;
+  std::vector<rosgraph_msgs::LogConstPtr> log;
+  diagnostic_msgs::DiagnosticStatus input;
+  ros::Subscriber rosout = nh_.subscribe<rosgraph_msgs::Log>("/rosout", 200, [&](const rosgraph_msgs::LogConstPtr& l) {
+    std::lock_guard<std::mutex> lock(m);
+    if (l->msg.find("no image on") != std::string::npos) log.push_back(l);
+  });
+  ros::Subscriber diag = nh_.subscribe<diagnostic_msgs::DiagnosticArray>("/diagnostics", 50,
+                                                                         [&](const diagnostic_msgs::DiagnosticArrayConstPtr& a) {
+    std::lock_guard<std::mutex> lock(m);
+    for (const auto& st : a->status)
+      if (st.name == "enhance: input") input = st;
+  });
+  subscribeOutputs();
+  ASSERT_TRUE(waitFor([&] { return pub_.getNumSubscribers() > 0; }, 15.0));
+  const cv::Mat img = iraf_vo_test::texturedImage(160, 120);
+  ros::WallTime last;
+  for (uint32_t id = 500; id < 540; ++id) {  // 2 s at 20 Hz
+    publish(img, enc::MONO8, id);
+    last = ros::WallTime::now();
+    ros::WallDuration(0.05).sleep();
+  }
+  ASSERT_TRUE(waitFor([&] { std::lock_guard<std::mutex> lock(m); return !log.empty(); }, 2.0)) << "no warning";
+  {
+    std::lock_guard<std::mutex> lock(m);
+    EXPECT_EQ(log[0]->level, rosgraph_msgs::Log::WARN);
+    EXPECT_NE(log[0]->msg.find("/image"), std::string::npos) << log[0]->msg;
+    const double after = (ros::WallTime(log[0]->header.stamp.sec, log[0]->header.stamp.nsec) - last).toSec();
+    EXPECT_LT(after, 0.15 + 0.05) << "warned " << after << " s after the last frame (3 periods: 0.15 s) " << log[0]->msg;
+  }
+  ASSERT_TRUE(waitFor([&] { std::lock_guard<std::mutex> lock(m); return input.level == diagnostic_msgs::DiagnosticStatus::ERROR; }, 4.0))
+      << "diagnostics: " << input.message;
+  {
+    std::lock_guard<std::mutex> lock(m);
+    EXPECT_NE(input.message.find("no image on /image"), std::string::npos) << input.message;
+  }
+  bool ok = false;
+  for (uint32_t id = 600; id < 660 && !ok; ++id) {  // frames again (up to 3 s): OK at the next diagnostics update
+    publish(img, enc::MONO8, id);
+    ros::WallDuration(0.05).sleep();
+    std::lock_guard<std::mutex> lock(m);
+    ok = input.level != diagnostic_msgs::DiagnosticStatus::ERROR && input.message.find("no image") == std::string::npos;
+  }
+  EXPECT_TRUE(ok) << "diagnostics after the frames returned: " << input.message;
 }
 
 int main(int argc, char** argv) {

@@ -111,6 +111,8 @@ class TrackerMonitor {
   void onOdometry(double now) { odom_rate_.tick(now); }
   bool allow(const SessionMessage& m, double now) { return throttle_.allow(m, now); }
   long missed() const { return gaps_.missed(); }
+  /// Nominal input period from the stamps [s] (0 until known).
+  double period() const { return gaps_.period(); }
   /// For /diagnostics (each call starts a new "missed since the last report" interval).
   HealthReport health(const std::string& no_calibration, const std::string& camera, const SessionCounters& c,
                       double now);
