@@ -1,5 +1,6 @@
 // The skeleton shared by the stage nodelets (image_proc style): a dynamic_reconfigure server on the private
-// namespace whose Config is copied into the stage's parameter struct through its ParamTable (validated, stored
+// namespace whose Config is copied into the stage's parameter struct through its ParamTable (validated field by
+// field: a rejected value is logged with its reason and reverted in the server; accepted changes are logged; stored
 // under a mutex, copied per frame), and lazy subscription: inputs are subscribed only while an output has listeners.
 #pragma once
 
@@ -84,6 +85,8 @@ class StageNodelet : public nodelet::Nodelet {
   }
   /// Called after each accepted change with the new parameters and the Config (for nodelet-only fields).
   virtual void onParams(const Params& p, const Config& c) {}
+  /// Appended to each logged change when it does not apply at once (e.g. ": stored, applies at the next reset").
+  virtual std::string changeNote() { return ""; }
   const ParamTable<Params>& table() const { return table_; }
 
   // ---- lazy subscription ----
@@ -115,20 +118,53 @@ class StageNodelet : public nodelet::Nodelet {
   }
 
  private:
-  void configure(const Config& c) {
-    Params p = params();
+  // One dynamic_reconfigure request. Each changed field is applied on its own terms: a value the table cannot take
+  // (unknown enum name) or that makes the parameters invalid is rejected with its reason and the value in use is
+  // written back into `c` (the server then shows what is in use: a rejected field never blocks later changes);
+  // every accepted change is logged ("enhance: mu_expected 112 -> 60"), deferred ones with the subclass's note.
+  void configure(Config& c) {
+    const Params cur = params();
+    Params requested = cur;
     std::vector<std::string> errors;
-    configToParams(table_, c, &p, &errors);
-    for (const std::string& e : errors) NODELET_ERROR("%s: %s; keeping the previous value", section(), e.c_str());
-    const std::string err = table_.validate(p);
-    if (!err.empty()) {
-      NODELET_ERROR("%s: rejected parameters: %s", section(), err.c_str());
-      return;
+    configToParams(table_, c, &requested, &errors);  // a field it cannot take keeps its value (and says why)
+    for (const std::string& e : errors) NODELET_ERROR("%s: rejected: %s; keeping the value in use", section(), e.c_str());
+    Params p = requested;
+    if (!table_.validate(p).empty()) {  // some change makes the set invalid: apply the changed fields one by one
+      p = cur;
+      for (const ParamEntry<Params>& e : table_.entries()) {
+        const std::string want = table_.get(requested, e);
+        if (want == table_.get(cur, e)) continue;
+        Params trial = p;
+        copyField(e, requested, &trial);
+        std::string err = table_.validate(trial);
+        while (!err.empty() && (err.back() == ' ' || err.back() == ';')) err.pop_back();
+        if (err.empty()) p = trial;
+        else NODELET_ERROR("%s: rejected %s = %s: %s; keeping %s", section(), e.name.c_str(), want.c_str(),
+                           err.c_str(), table_.get(cur, e).c_str());
+      }
+      if (!table_.validate(p).empty()) p = cur;  // (each alone valid, but not together)
     }
+    if (have_config_) {
+      const std::string note = changeNote();
+      for (const ParamEntry<Params>& e : table_.entries()) {
+        const std::string before = table_.get(cur, e), after = table_.get(p, e);
+        if (before != after)
+          NODELET_INFO("%s: %s %s -> %s%s", section(), e.name.c_str(), before.c_str(), after.c_str(), note.c_str());
+      }
+    }
+    paramsToConfig(table_, p, &c);  // what is in use, back to the server (rqt / dynparam show it)
     setParams(p);
     config_ = c;  // under reconfigure_mutex_ (the server holds it during callbacks)
     have_config_ = true;
     onParams(p, c);
+  }
+  static void copyField(const ParamEntry<Params>& e, const Params& from, Params* to) {
+    switch (e.type) {
+      case ParamType::kInt: to->*(e.int_field) = from.*(e.int_field); break;
+      case ParamType::kDouble: to->*(e.double_field) = from.*(e.double_field); break;
+      case ParamType::kBool: to->*(e.bool_field) = from.*(e.bool_field); break;
+      case ParamType::kText: e.set_text(e.get_text(from), to); break;
+    }
   }
   const char* section() const { return table_.section().c_str(); }
 

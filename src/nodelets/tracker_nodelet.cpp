@@ -149,6 +149,13 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     if (session_) session_->setParams(p);  // before the session exists: the startup values (params())
   }
 
+  std::string changeNote() override {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return session_ && session_->paramsDeferred()
+               ? ": stored, applies at the next reset (~reset service, or when tracking is lost)"
+               : "";
+  }
+
   bool resetCb(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (session_) session_->requestRestart();

@@ -29,6 +29,8 @@ void TrackingSession::setParams(const TrackerParams& params) {
 
 void TrackingSession::requestRestart() { restart_requested_ = true; }
 
+bool TrackingSession::paramsDeferred() const { return tracker_ && tracker_->state() == TrackingState::kTracking; }
+
 SessionCounters TrackingSession::counters() const {
   SessionCounters c = counters_;
   c.resets = internal_resets_base_ + internal_resets_last_ + restarts_;

@@ -1,4 +1,5 @@
-// rostest of EnhanceNodelet: encodings, bad input, lazy subscription, live dynamic_reconfigure, a stopped camera.
+// rostest of EnhanceNodelet: encodings, bad input, lazy subscription, live dynamic_reconfigure (rejected values
+// reverted in the server, changes logged).
 #include <gtest/gtest.h>
 
 #include "common/wait_for.h"
@@ -19,6 +20,7 @@
 #include "common/test_data.h"
 #include "iraf_vo/EnhanceConfig.h"
 #include "iraf_vo/EnhanceStats.h"
+#include "iraf_vo/common/param_table.h"
 
 namespace enc = sensor_msgs::image_encodings;
 using iraf_vo::test::waitFor;
@@ -210,6 +212,58 @@ TEST_F(EnhanceNodeletTest, AStoppedCameraIsReported) {
     ok = input.level != diagnostic_msgs::DiagnosticStatus::ERROR && input.message.find("no image") == std::string::npos;
   }
   EXPECT_TRUE(ok) << "diagnostics after the frames returned: " << input.message;
+}
+
+// dynamic_reconfigure shows the values in use: a rejected value (unknown enum name, NaN) is logged with its reason
+// and reverted in the server, other fields of the same or later requests still apply, and every accepted change is
+// logged as "enhance: <name> <old> -> <new>".
+TEST_F(EnhanceNodeletTest, RejectedReconfigureValuesAreRevertedAndChangesLogged) {
+  std::mutex log_mutex;
+  std::vector<std::string> log;
+  ros::Subscriber rosout = nh_.subscribe<rosgraph_msgs::Log>("/rosout", 200, [&](const rosgraph_msgs::LogConstPtr& m) {
+    std::lock_guard<std::mutex> l(log_mutex);
+    log.push_back(m->msg);
+  });
+  const auto logged = [&](const std::string& text) {
+    return waitFor([&] {
+      std::lock_guard<std::mutex> l(log_mutex);
+      for (const std::string& m : log)
+        if (m.find(text) != std::string::npos) return true;
+      return false;
+    }, 5.0);
+  };
+  dynamic_reconfigure::Client<iraf_vo::EnhanceConfig> client("enhance");
+  iraf_vo::EnhanceConfig in_use, cfg;
+  ASSERT_TRUE(client.getCurrentConfiguration(in_use, ros::Duration(5.0)));
+  const auto current = [&] {
+    iraf_vo::EnhanceConfig c;
+    EXPECT_TRUE(client.getCurrentConfiguration(c, ros::Duration(5.0)));
+    return c;
+  };
+
+  // An unknown method in the same request as a valid mu_expected change: the method is rejected and reverted,
+  // mu_expected applies.
+  cfg = in_use;
+  cfg.method = "bogus";
+  cfg.mu_expected = 60.0;
+  ASSERT_TRUE(client.setConfiguration(cfg));
+  ASSERT_TRUE(waitFor([&] { return current().mu_expected == 60.0; }, 5.0)) << current().mu_expected;
+  EXPECT_EQ(current().method, in_use.method) << "the server still shows the rejected method";
+  EXPECT_TRUE(logged("bogus")) << "the rejection is not logged";
+  EXPECT_TRUE(logged("enhance: mu_expected " + iraf_vo::formatDouble(in_use.mu_expected) + " -> 60"));
+
+  // NaN fails validation: reverted, logged with the reason; a later change of another field is not blocked.
+  cfg = current();
+  cfg.mu_expected = std::nan("");
+  ASSERT_TRUE(client.setConfiguration(cfg));
+  EXPECT_TRUE(logged("rejected mu_expected = nan"));
+  ASSERT_TRUE(waitFor([&] { return current().mu_expected == 60.0; }, 5.0)) << current().mu_expected;
+  cfg = current();
+  cfg.brightness_threshold = in_use.brightness_threshold + 0.05;
+  ASSERT_TRUE(client.setConfiguration(cfg));
+  EXPECT_TRUE(logged("enhance: brightness_threshold " + iraf_vo::formatDouble(in_use.brightness_threshold) + " -> " +
+                     iraf_vo::formatDouble(in_use.brightness_threshold + 0.05)));
+  EXPECT_NEAR(current().brightness_threshold, in_use.brightness_threshold + 0.05, 1e-12);
 }
 
 int main(int argc, char** argv) {

@@ -17,6 +17,7 @@
 #include <nav_msgs/Odometry.h>
 #include <nav_msgs/Path.h>
 #include <ros/ros.h>
+#include <rosgraph_msgs/Log.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/image_encodings.h>
 #include <std_srvs/Trigger.h>
@@ -292,14 +293,31 @@ TEST_F(PipelineTest, LiveTuning) {
   }
 
   // Tracker: a parameter change (applied at the next restart) and the ~reset service (restart on the next frame).
+  // While TRACKING the change is stored and logged as deferred.
+  std::mutex log_mutex;
+  std::vector<std::string> log;
+  ros::Subscriber rosout = nh_.subscribe<rosgraph_msgs::Log>("/rosout", 200, [&](const rosgraph_msgs::LogConstPtr& m) {
+    std::lock_guard<std::mutex> l(log_mutex);
+    log.push_back(m->msg);
+  });
+  ros::WallDuration(0.5).sleep();  // the /rosout connection
   const iraf_vo::TrackingStatusConstPtr before = lastStatus();
   ASSERT_TRUE(before);
+  ASSERT_EQ(before->state, iraf_vo::TrackingStatus::TRACKING);
   dynamic_reconfigure::Client<iraf_vo::TrackerConfig> tclient("/tracker");
   iraf_vo::TrackerConfig tc;
   ASSERT_TRUE(tclient.getCurrentConfiguration(tc, ros::Duration(5.0)));
+  const std::string old_window = std::to_string(tc.ba_window_size);
   tc.ba_window_size = 8;
   ASSERT_TRUE(tclient.setConfiguration(tc));
   EXPECT_EQ(tc.ba_window_size, 8);
+  EXPECT_TRUE(waitFor([&] {
+    std::lock_guard<std::mutex> l(log_mutex);
+    for (const std::string& m : log)
+      if (m.find("tracker: ba_window_size " + old_window + " -> 8: stored, applies at the next reset") != std::string::npos)
+        return true;
+    return false;
+  }, 5.0)) << "the deferred change is not logged";
   std_srvs::Trigger reset;
   ASSERT_TRUE(ros::service::call("/tracker/reset", reset));
   EXPECT_TRUE(reset.response.success);

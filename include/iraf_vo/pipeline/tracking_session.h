@@ -83,6 +83,8 @@ class TrackingSession {
   void setParams(const TrackerParams& params);
   /// Restart (new map, trajectory continues) at the next frame.
   void requestRestart();
+  /// True when setParams() would wait for the next restart (the tracker is tracking).
+  bool paramsDeferred() const;
 
   /// The parameters of the current tracker (setParams() values once applied).
   const TrackerParams& params() const { return params_; }
