@@ -12,6 +12,7 @@
 
 #include <boost/thread/recursive_mutex.hpp>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <set>
@@ -45,11 +46,22 @@ class StageNodelet : public nodelet::Nodelet {
  protected:
   // ---- reconfigurable parameters ----
   /// Starts the server; its first callback brings the startup values (private parameters / cfg defaults).
-  /// Before, it records which table fields the user gave as private parameters (userSet(): "section.name").
+  /// Before, it records which table fields the user gave as private parameters (userSet(): "section.name"). The
+  /// server writes every field back to the parameter server, where a later run on the same roscore finds them:
+  /// ~reconfigure_written lists the fields this nodelet wrote without the user giving them (with their values), and
+  /// such a leftover (same value) is not user-given.
   void startReconfigure() {
-    for (const ParamEntry<Params>& e : table_.entries())
-      if (getPrivateNodeHandle().hasParam(e.name)) user_set_.insert(table_.section() + "." + e.name);
-    reconfigure_ = std::make_shared<dynamic_reconfigure::Server<Config>>(reconfigure_mutex_, getPrivateNodeHandle());
+    ros::NodeHandle& pnh = getPrivateNodeHandle();
+    std::map<std::string, std::string> written;
+    pnh.getParam(kWrittenParam, written);
+    for (const ParamEntry<Params>& e : table_.entries()) {
+      std::string value;
+      if (!paramText(pnh, e.name, &value)) continue;
+      const auto it = written.find(e.name);
+      if (it != written.end() && it->second == value) continue;  // our own write-back of an earlier run
+      user_set_.insert(table_.section() + "." + e.name);
+    }
+    reconfigure_ = std::make_shared<dynamic_reconfigure::Server<Config>>(reconfigure_mutex_, pnh);
     reconfigure_->setCallback([this](Config& c, uint32_t) { configure(c); });
   }
   /// A copy of the current parameters (per frame).
@@ -82,6 +94,7 @@ class StageNodelet : public nodelet::Nodelet {
     if (!reconfigure_ || !have_config_) return;
     paramsToConfig(table_, p, &config_);
     reconfigure_->updateConfig(config_);
+    recordWritten(p);
   }
   /// Called after each accepted change with the new parameters and the Config (for nodelet-only fields).
   virtual void onParams(const Params& p, const Config& c) {}
@@ -153,10 +166,31 @@ class StageNodelet : public nodelet::Nodelet {
       }
     }
     paramsToConfig(table_, p, &c);  // what is in use, back to the server (rqt / dynparam show it)
+    recordWritten(p);
     setParams(p);
     config_ = c;  // under reconfigure_mutex_ (the server holds it during callbacks)
     have_config_ = true;
     onParams(p, c);
+  }
+  static constexpr const char* kWrittenParam = "reconfigure_written";
+  /// The private parameter `name` as the text ParamTable::get() gives for that value; false when it is not set.
+  static bool paramText(const ros::NodeHandle& pnh, const std::string& name, std::string* text) {
+    XmlRpc::XmlRpcValue v;
+    if (!pnh.getParam(name, v)) return false;
+    switch (v.getType()) {
+      case XmlRpc::XmlRpcValue::TypeBoolean: *text = static_cast<bool>(v) ? "true" : "false"; return true;
+      case XmlRpc::XmlRpcValue::TypeInt: *text = std::to_string(static_cast<int>(v)); return true;
+      case XmlRpc::XmlRpcValue::TypeDouble: *text = formatDouble(static_cast<double>(v)); return true;
+      case XmlRpc::XmlRpcValue::TypeString: *text = static_cast<std::string>(v); return true;
+      default: *text = ""; return true;  // present but not a scalar: the user's (readPrivateParams reports it)
+    }
+  }
+  /// ~reconfigure_written: the fields the server writes back that the user did not give, with their values.
+  void recordWritten(const Params& p) {
+    std::map<std::string, std::string> written;
+    for (const ParamEntry<Params>& e : table_.entries())
+      if (!user_set_.count(table_.section() + "." + e.name)) written[e.name] = table_.get(p, e);
+    getPrivateNodeHandle().setParam(kWrittenParam, written);
   }
   static void copyField(const ParamEntry<Params>& e, const Params& from, Params* to) {
     switch (e.type) {
