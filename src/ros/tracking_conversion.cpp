@@ -51,6 +51,12 @@ std::string stateName(TrackingState s) {
   return n;
 }
 
+std::string statusReason(const TrackResult& r) {
+  if (!r.rejected.empty()) return r.rejected;
+  if (r.state != TrackingState::kTracking && !r.init_status.empty()) return "initializing: " + r.init_status;
+  return "";
+}
+
 iraf_vo::TrackingStatusPtr toStatusMsg(const SessionStep& step, const std_msgs::Header& header, int keypoints,
                                        double ms_features) {
   const TrackResult& r = step.result;
@@ -73,7 +79,7 @@ iraf_vo::TrackingStatusPtr toStatusMsg(const SessionStep& step, const std_msgs::
   s->time_resets = c.time_resets;
   s->dropped_frames = c.dropped;
   s->rejected_poses = c.rejected;
-  s->reason = r.rejected;
+  s->reason = statusReason(r);
   s->keyframes = c.keyframes;
   s->map_keyframes = c.map_keyframes;
   s->map_points = c.map_points;

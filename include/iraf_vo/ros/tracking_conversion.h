@@ -24,6 +24,9 @@ sensor_msgs::PointCloud2Ptr toCloudMsg(const std::vector<Eigen::Vector3d>& point
 geometry_msgs::PoseArrayPtr toPoseArrayMsg(const std::vector<Eigen::Isometry3d>& poses, const std_msgs::Header& header);
 /// TrackingStatus.state_name: NOT_INITIALIZED | INITIALIZING | TRACKING | LOST (= toString(state) in capitals).
 std::string stateName(TrackingState s);
+/// TrackingStatus.reason of a frame: the health monitor's rejection, else while (re-)initializing why this frame did
+/// not initialize the map ("initializing: <the initializer's reason>"), else "".
+std::string statusReason(const TrackResult& r);
 /// The status of one processed frame: its result, the session counters, its keypoints and feature-stage time.
 iraf_vo::TrackingStatusPtr toStatusMsg(const SessionStep& step, const std_msgs::Header& header, int keypoints,
                                        double ms_features);
