@@ -71,6 +71,7 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     points_pub_ = nh.advertise<sensor_msgs::PointCloud2>("map_points", 1, true);
     keyframes_pub_ = nh.advertise<geometry_msgs::PoseArray>("keyframes", 1, true);
     status_pub_ = nh.advertise<iraf_vo::TrackingStatus>("tracking_status", 10);
+    events_pub_ = nh.advertise<iraf_vo::TrackingEvent>("tracking_events", 10, true);
     tf_ = std::make_shared<tf2_ros::TransformBroadcaster>();
     if (!base_frame_.empty()) tf_listener_ = std::make_shared<tf2_ros::TransformListener>(tf_buffer_);
     save_srv_ = pnh.advertiseService("save_trajectory", &TrackerNodelet::saveCb, this);
@@ -196,6 +197,7 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     const SessionStep step = session_->process(stamp_ns, ok ? &frame : nullptr, err);
     for (const SessionMessage& m : step.messages) log(m);
     if (step.time_jump) path_ = nav_msgs::Path();
+    publishEvents(step, msg->header);
     if (step.time_jump || step.result.initialized_now) odom_out_.reset();
     monitor_.onStep(step);
     if (!step.tracked_frame) return;
@@ -216,6 +218,18 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     st->missed_frames = monitor_.missed();
     status_pub_.publish(st);
     NODELET_INFO_THROTTLE(status_period_, "tracker: %s", monitor_.statusLine(step, now).c_str());
+  }
+
+  // tracking_events: the time jump and the new map / scale epoch of this frame.
+  void publishEvents(const SessionStep& step, const std_msgs::Header& frame_header) {
+    std_msgs::Header h = frame_header;
+    h.frame_id = world_frame_;
+    if (step.time_jump)
+      events_pub_.publish(toEventMsg(iraf_vo::TrackingEvent::TIME_RESET, step.counters.epoch, "time_reset", h));
+    if (step.new_epoch) {
+      events_pub_.publish(toEventMsg(iraf_vo::TrackingEvent::NEW_MAP, step.counters.epoch, step.epoch_cause, h));
+      NODELET_INFO("tracker: map / scale epoch %ld (%s)", step.counters.epoch, step.epoch_cause.c_str());
+    }
   }
 
   // The static camera -> base transform, once: from the camera yaml's T_BS (~base_from_camera_file) or from TF.
@@ -254,7 +268,7 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
   }
 
   ros::Subscriber sub_;
-  ros::Publisher odom_pub_, path_pub_, points_pub_, keyframes_pub_, status_pub_;
+  ros::Publisher odom_pub_, path_pub_, points_pub_, keyframes_pub_, status_pub_, events_pub_;
   ros::ServiceServer save_srv_, reset_srv_;
   ros::WallTimer timer_, watchdog_timer_;
   std::mutex watchdog_mutex_;  // watchdog_ (frame callback, its timer, diagnostics)

@@ -50,6 +50,7 @@ void TrackingSession::restartAfterTimeJump(int64_t stamp_ns, SessionStep* step) 
                                                               "; bag loop / restart?): new map, the path restarts",
                             "time_jump"});
   ++counters_.time_resets;
+  epoch_cause_ = "time_reset";
   tracker_.reset();
   trajectory_ = Trajectory();
   have_last_pose_ = false;
@@ -58,7 +59,7 @@ void TrackingSession::restartAfterTimeJump(int64_t stamp_ns, SessionStep* step) 
 }
 
 void TrackingSession::createTracker(const Eigen::Isometry3d& anchor, SessionStep* step) {
-  if (tracker_) ++restarts_;
+  if (tracker_) ++restarts_, epoch_cause_ = "restart";
   tracker_.reset();  // joins the mapping thread of the old one
   try {
     tracker_ = std::make_unique<Tracker>(camera_, pending_params_);
@@ -117,9 +118,11 @@ SessionStep TrackingSession::process(int64_t stamp_ns, const FeatureFrame* frame
     return drop(&step, SessionMessage::Level::kError, at + e.what() + "; restarting the tracker"), step;
   }
   step.tracked_frame = true;
-  if (tracker_->stats().resets > internal_resets_last_)
+  if (tracker_->stats().resets > internal_resets_last_) {
     step.messages.push_back({SessionMessage::Level::kWarn,
                              "map reset: lost for lost_frames_before_reset frames, initializing a new map", "reset"});
+    epoch_cause_ = "map_reset";
+  }
   internal_resets_last_ = tracker_->stats().resets;
   countFrame(step.result, &step);
   const TrackResult& r = step.result;
@@ -160,6 +163,10 @@ void TrackingSession::countFrame(const TrackResult& r, SessionStep* step) {
                               "lost"});
   }
   if (r.initialized_now) {
+    ++counters_.epoch;
+    step->new_epoch = true;
+    step->epoch_cause = counters_.epoch == 1 ? "initial" : epoch_cause_;
+    epoch_cause_ = "reinitialized";  // unless a reset / restart / time jump says otherwise before the next map
     if (counters_.initializations > 0)
       step->messages.push_back({L::kWarn, "re-initialized: new map (" + std::to_string(r.inliers) + " inliers)",
                                 "reinit"});

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "iraf_vo/TrackingEvent.h"
 #include "iraf_vo/TrackingStatus.h"
 #include "iraf_vo/pipeline/odometry_output.h"
 #include "iraf_vo/pipeline/tracking_session.h"
@@ -32,7 +33,10 @@ iraf_vo::TrackingStatusPtr toStatusMsg(const SessionStep& step, const std_msgs::
                                        double ms_features);
 /// The 1 Hz status while there is no calibration: state NOT_INITIALIZED, reason set, counters zero.
 iraf_vo::TrackingStatusPtr toNoCalibrationStatusMsg(const std::string& reason, const ros::Time& stamp);
-/// Odometry (pose + covariance, twist + covariance when known, else twist covariance[0] = -1) of header.frame_id ->
+/// A discontinuity for `tracking_events`: kind TrackingEvent::NEW_MAP (cause: SessionStep::epoch_cause) or TIME_RESET.
+iraf_vo::TrackingEventPtr toEventMsg(const std::string& kind, long epoch, const std::string& cause,
+                                     const std_msgs::Header& header);
+/// Odometry (pose + covariance; twist + covariance when known, else both all zero: not filled) of header.frame_id ->
 /// child_frame.
 nav_msgs::OdometryPtr toOdometryMsg(const OdometrySample& s, const std_msgs::Header& header,
                                     const std::string& child_frame);
