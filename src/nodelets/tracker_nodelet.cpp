@@ -14,6 +14,7 @@
 #include <pluginlib/class_list_macros.hpp>
 
 #include "iraf_vo/Features.h"
+#include "iraf_vo/SaveTrajectory.h"
 #include "iraf_vo/TrackerConfig.h"
 #include "iraf_vo/pipeline/input_watchdog.h"
 #include "iraf_vo/pipeline/run_monitor.h"
@@ -30,11 +31,19 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
  public:
   TrackerNodelet() : StageNodelet(trackerParamTable()) {}
   ~TrackerNodelet() override {
-    // Record the trajectory on shutdown (roslaunch Ctrl-C unloads the nodelets).
+    // The summary and the trajectory on shutdown (roslaunch Ctrl-C unloads the nodelets).
     std::lock_guard<std::mutex> lock(mutex_);
-    std::string err;
-    if (session_ && !opts_.trajectory_file.empty() && session_->trajectory().size() > 0 && !session_->saveTrajectory(&err))
-      ROS_ERROR("tracker: ~trajectory_file %s", err.c_str());
+    if (session_) {
+      ROS_INFO("tracker: %s", sessionSummary(session_->counters(), monitor_.missed()).c_str());
+      std::string err;
+      if (!opts_.trajectory_file.empty() && session_->trajectory().size() > 0) {
+        if (session_->saveTrajectory(&err))
+          ROS_INFO("tracker: trajectory written to %s (%zu poses)", opts_.trajectory_file.c_str(),
+                   session_->trajectory().size());
+        else
+          ROS_ERROR("tracker: ~trajectory_file %s", err.c_str());
+      }
+    }
     session_.reset();
   }
 
@@ -165,11 +174,16 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     return true;
   }
 
-  bool saveCb(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
+  bool saveCb(iraf_vo::SaveTrajectory::Request& req, iraf_vo::SaveTrajectory::Response& res) {
     std::lock_guard<std::mutex> lock(mutex_);
-    std::string err = "~trajectory_file is not set";
-    res.success = !opts_.trajectory_file.empty() && session_ && session_->saveTrajectory(&err);
-    res.message = res.success ? "wrote " + std::to_string(session_->trajectory().size()) + " poses" : err;
+    const std::string path = req.path.empty() ? opts_.trajectory_file : req.path;
+    std::string err = path.empty() ? "no path given and ~trajectory_file is not set"
+                                   : !session_ ? camera_src_.reason() : "";
+    res.success = !path.empty() && session_ && session_->saveTrajectory(path, &err);
+    res.path = res.success ? path : "";
+    res.message = res.success ? "wrote " + std::to_string(session_->trajectory().size()) + " poses to " + path : err;
+    if (res.success) NODELET_INFO("tracker: trajectory written to %s (%zu poses)", path.c_str(), session_->trajectory().size());
+    else NODELET_ERROR("tracker: save_trajectory: %s", err.c_str());
     return true;
   }
 

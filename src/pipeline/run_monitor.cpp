@@ -90,6 +90,16 @@ std::string trackerStatusLine(TrackingState state, int inliers, const SessionCou
   return buf;
 }
 
+std::string sessionSummary(const SessionCounters& c, long missed) {
+  char buf[256];
+  std::snprintf(buf, sizeof(buf),
+                "summary: %ld frames, %ld tracked (%.1f %%), %ld lost events, %ld resets, %ld time resets, %ld dropped, "
+                "%ld missed",
+                c.frames, c.tracked, c.frames > 0 ? 100.0 * c.tracked / c.frames : 0.0, c.lost_events, c.resets,
+                c.time_resets, c.dropped, missed);
+  return buf;
+}
+
 void HealthReport::add(const std::string& key, double value) {
   char buf[32];
   std::snprintf(buf, sizeof(buf), "%.2f", value);

@@ -186,14 +186,17 @@ void TrackingSession::collectMap(SessionStep* step) {
   counters_.map_keyframes = static_cast<int>(step->keyframe_poses.size());
 }
 
-bool TrackingSession::saveTrajectory(std::string* error) const {
-  if (options_.trajectory_file.empty()) {
+bool TrackingSession::saveTrajectory(std::string* error) const { return saveTrajectory("", error); }
+
+bool TrackingSession::saveTrajectory(const std::string& path, std::string* error) const {
+  const std::string& file = path.empty() ? options_.trajectory_file : path;
+  if (file.empty()) {
     *error = "no trajectory file set";
     return false;
   }
   std::string err;
-  if (writeTumTrajectory(options_.trajectory_file, trajectory_, &err)) return true;
-  *error = options_.trajectory_file + ": " + err;
+  if (writeTumTrajectory(file, trajectory_, &err)) return true;
+  *error = file + ": " + err;
   return false;
 }
 

@@ -5,6 +5,7 @@
 //   1. SyntheticDarkSequence: odometry + path published, TF world -> camera available, Sim(3) ATE of the path
 //      vs the simulator's ground truth below a bound, tracking recovered after the dark segment.
 //   1b. ResolutionRuleFromTheCamera: the size-dependent fields come from the image / calibration, ~params are kept.
+//   1c. SaveTrajectoryToAPath: ~save_trajectory writes to the path it is given (and says why without one).
 //   2. LiveTuning: dynamic_reconfigure of features (fixed FAST threshold) and enhance (mu_expected) while frames
 //      flow: Features / EnhanceStats reflect the change within a few frames.
 //   3. BadInput: wrong encoding, empty image, wrong size, duplicated and out-of-order stamps, a jump back in time,
@@ -34,6 +35,7 @@
 #include "iraf_vo/EnhanceConfig.h"
 #include "iraf_vo/EnhanceStats.h"
 #include "iraf_vo/Features.h"
+#include "iraf_vo/SaveTrajectory.h"
 #include "iraf_vo/FeaturesConfig.h"
 #include "iraf_vo/TrackerConfig.h"
 #include "iraf_vo/TrackingStatus.h"
@@ -244,6 +246,24 @@ TEST_F(PipelineTest, ResolutionRuleFromTheCamera) {
   EXPECT_NEAR(tc.search_radius_px, d.search_radius_px, 1e-6) << "from the calibration's focal length";
   EXPECT_NEAR(tc.min_triangulation_parallax_deg, d.min_triangulation_parallax_deg, 1e-6);
   EXPECT_NE(d.search_radius_px, iraf_vo::TrackerParams().search_radius_px);
+}
+
+// ---- 1c: ~save_trajectory with a path (no ~trajectory_file in this launch) ------------------------------------
+TEST_F(PipelineTest, SaveTrajectoryToAPath) {
+  iraf_vo::SaveTrajectory srv;
+  ASSERT_TRUE(ros::service::call("/tracker/save_trajectory", srv));
+  EXPECT_FALSE(srv.response.success) << "no path and no ~trajectory_file";
+  EXPECT_NE(srv.response.message.find("~trajectory_file is not set"), std::string::npos) << srv.response.message;
+  const std::string path = g_sim_dir + "/saved_by_service.txt";
+  srv.request.path = path;
+  ASSERT_TRUE(ros::service::call("/tracker/save_trajectory", srv));
+  EXPECT_TRUE(srv.response.success) << srv.response.message;
+  EXPECT_EQ(srv.response.path, path);
+  iraf_vo::Trajectory saved;
+  std::string err;
+  ASSERT_TRUE(iraf_vo::readTumTrajectory(path, &saved, &err)) << err;
+  EXPECT_GT(saved.size(), static_cast<size_t>(kFrames / 2));
+  EXPECT_NE(srv.response.message.find("poses to " + path), std::string::npos) << srv.response.message;
 }
 
 TEST_F(PipelineTest, LiveTuning) {

@@ -242,6 +242,13 @@ TEST(InputWatchdog, AHealthyJitteredStreamRaisesNothing) {
   }
 }
 
+TEST(RunMonitor, ShutdownSummary) {
+  SessionCounters c;
+  c.frames = 866, c.tracked = 850, c.lost_events = 1, c.resets = 2, c.time_resets = 1, c.dropped = 3;
+  EXPECT_EQ(sessionSummary(c, 4), "summary: 866 frames, 850 tracked (98.2 %), 1 lost events, 2 resets, 1 time resets, "
+                                  "3 dropped, 4 missed");
+}
+
 TEST(RunMonitor, RatesThrottleAndHealth) {
   RateMeter r(5.0);
   for (int i = 0; i <= 20; ++i) r.tick(100.0 + 0.1 * i);

@@ -94,6 +94,8 @@ class TrackingSession {
   const Trajectory& trajectory() const { return trajectory_; }
   /// Writes the recorded trajectory to options.trajectory_file. false + *error.
   bool saveTrajectory(std::string* error) const;
+  /// Writes it to `path` ("" = options.trajectory_file). false + *error naming the file.
+  bool saveTrajectory(const std::string& path, std::string* error) const;
   SessionCounters counters() const;
 
  private:
