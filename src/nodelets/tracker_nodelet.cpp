@@ -7,6 +7,7 @@
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <nav_msgs/Path.h>
 #include <std_srvs/Trigger.h>
+#include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
 
@@ -63,7 +64,8 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     pnh.param("max_out_of_order", opts_.max_out_of_order, 1.0);
     pnh.param<std::string>("trajectory_file", opts_.trajectory_file, "");
     pnh.param("save_every_keyframe", opts_.save_every_keyframe, true);
-    pnh.param("path_publish_every", path_publish_every_, 1);
+    pnh.param("path_max_poses", path_max_poses_, 10000);
+    pnh.param("path_publish_period", path_publish_period_, 1.0);
     pnh.param("status_period", status_period_, 10.0);
     pnh.param("use_rectified", info_opts.use_rectified, false);
     pnh.param<std::string>("camera_file", camera_file, "");
@@ -71,7 +73,6 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     double input_timeout = 3.0;
     pnh.param("input_timeout", input_timeout, 3.0);
     watchdog_.setDeadAfter(input_timeout);
-    path_publish_every_ = std::max(1, path_publish_every_);
 
     readStartupParams(TrackerParams(), [](const TrackerParams& p) { return validate(p); });  // ~name: YAML tracker:
 
@@ -82,6 +83,7 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     status_pub_ = nh.advertise<iraf_vo::TrackingStatus>("tracking_status", 10);
     events_pub_ = nh.advertise<iraf_vo::TrackingEvent>("tracking_events", 10, true);
     tf_ = std::make_shared<tf2_ros::TransformBroadcaster>();
+    static_tf_ = std::make_shared<tf2_ros::StaticTransformBroadcaster>();
     if (!base_frame_.empty()) tf_listener_ = std::make_shared<tf2_ros::TransformListener>(tf_buffer_);
     save_srv_ = pnh.advertiseService("save_trajectory", &TrackerNodelet::saveCb, this);
     reset_srv_ = pnh.advertiseService("reset", &TrackerNodelet::resetCb, this);
@@ -133,6 +135,10 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     if (!reason.empty()) {
       status_pub_.publish(toNoCalibrationStatusMsg(reason, ros::Time::now()));
       NODELET_WARN_THROTTLE(10.0, "tracker: %s", reason.c_str());
+    }
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      publishPathThrottled(true);
     }
     updater_->force_update();
   }
@@ -246,13 +252,29 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     }
   }
 
+  // /path at most every ~path_publish_period s (wall), the rest from the 1 Hz timer (force): the whole path is not
+  // re-sent at the camera rate. Under mutex_.
+  void publishPathThrottled(bool force) {
+    const ros::WallTime now = ros::WallTime::now();
+    if (!path_dirty_ || (!force && (now - last_path_pub_).toSec() < path_publish_period_)) return;
+    path_pub_.publish(boost::make_shared<nav_msgs::Path>(path_));
+    last_path_pub_ = now;
+    path_dirty_ = false;
+  }
+
   // The static camera -> base transform, once: from the camera yaml's T_BS (~base_from_camera_file) or from TF.
   bool resolveBase(const std::string& camera_frame) {
     if (base_frame_.empty() || have_base_) return true;
     if (base_from_file_) {
       const CameraModelPtr cam = camera_src_.camera();
       odom_out_.setBaseFromCamera(Eigen::Isometry3d(cam->T_BS));
-      NODELET_INFO("tracker: %s -> %s from the camera file's T_BS", camera_frame.c_str(), base_frame_.c_str());
+      // The camera frame joins the TF tree: base_frame -> camera frame (static, latched on /tf_static).
+      std_msgs::Header h;
+      h.stamp = ros::Time::now();
+      h.frame_id = base_frame_;
+      static_tf_->sendTransform(toTransformMsg(Eigen::Isometry3d(cam->T_BS), h, camera_frame));
+      NODELET_INFO("tracker: %s -> %s from the camera file's T_BS (published as a static TF)", camera_frame.c_str(),
+                   base_frame_.c_str());
       return have_base_ = true;
     }
     try {
@@ -277,7 +299,10 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     ps.pose = odom->pose.pose;
     path_.header = h;
     path_.poses.push_back(ps);
-    if (++path_counter_ % path_publish_every_ == 0) path_pub_.publish(boost::make_shared<nav_msgs::Path>(path_));
+    if (path_max_poses_ > 0 && static_cast<int>(path_.poses.size()) > path_max_poses_)
+      path_.poses.erase(path_.poses.begin(), path_.poses.begin() + (path_.poses.size() - path_max_poses_));
+    path_dirty_ = true;
+    publishPathThrottled(false);
     if (publish_tf_) tf_->sendTransform(toTransformMsg(s.T_odom_base, h, child));
   }
 
@@ -288,13 +313,15 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
   std::mutex watchdog_mutex_;  // watchdog_ (frame callback, its timer, diagnostics)
   InputWatchdog watchdog_{"features"};
   std::shared_ptr<tf2_ros::TransformBroadcaster> tf_;
+  std::shared_ptr<tf2_ros::StaticTransformBroadcaster> static_tf_;
   tf2_ros::Buffer tf_buffer_;
   std::shared_ptr<tf2_ros::TransformListener> tf_listener_;
   std::shared_ptr<diagnostic_updater::Updater> updater_;
   std::string world_frame_, camera_frame_, base_frame_;
   bool resolution_rule_ = true;  // size- and focal-dependent fields from the camera (pipeline_params.h)
   bool publish_tf_ = true, base_from_file_ = false;
-  int path_publish_every_ = 1;
+  int path_max_poses_ = 10000;       // /path keeps the newest poses (<= 0: unbounded)
+  double path_publish_period_ = 1.0;  // [s] /path is published at most this often (and by the 1 Hz timer)
   double status_period_ = 10.0;
   SessionOptions opts_;
   CameraSource camera_src_;
@@ -305,7 +332,8 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
   bool have_base_ = false;
   TrackerMonitor monitor_;
   nav_msgs::Path path_;
-  long path_counter_ = 0;
+  bool path_dirty_ = false;
+  ros::WallTime last_path_pub_;
 };
 
 }  // namespace iraf_vo
