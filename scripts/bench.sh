@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# One benchmark run for speed (issue 12): front-end stages and the ratio to cv::ORB (one thread, thread CPU time),
+# One benchmark run for speed: front-end stages and the ratio to cv::ORB (one thread, thread CPU time),
 # then the whole offline VO per mode: CPU ms per frame over all threads (PNG decoding included), per-stage medians,
 # local-BA runs with ms per run (wall and thread CPU) and amortised per frame, wall fps, tracked %, ATE and peak RSS.
 # Speed targets live here, not in tests: the script prints the measured values next to the targets.
@@ -91,7 +91,7 @@ if ba:
 if ba and ba_cpu:  # the mapping thread's CPU time: what the BA costs, whatever the machine's load
     cpu_ms = float(ba_cpu.group(1))
     print("summary: local BA %d runs x %.1f CPU ms = %.2f CPU ms per frame amortised" % (n, cpu_ms, n * cpu_ms / max(frames, 1)))
-# The same work in units of this host's cv::ORB frame: the issue's 10 ms were set where cv::ORB(1000) took 4.75 ms
+# The same work in units of this host's cv::ORB frame: the 10 ms target was set where cv::ORB(1000) took 4.75 ms
 # per EuRoC frame (10 / 4.75 = 2.11), so hosts of different speed can be compared (the absolute target stays above).
 if cpu and orb:
     print("summary: whole VO = %.2f x this host's cv::ORB(1000) frame (%.2f ms); the 10 ms target on the issue's host "

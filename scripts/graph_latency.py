@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Latency of the running nodelet graph (issue 12): for every image on --image, the wall time until the odometry
+"""Latency of the running nodelet graph: for every image on --image, the wall time until the odometry
 with the same header stamp arrives on --odometry (both received by this node, so the number is the graph's
 processing time plus two transport hops), and the peak resident memory (VmHWM) of the nodelet manager process.
 Stops when no image arrived for --idle seconds after the first one. Prints a summary, exit 1 if nothing arrived.

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Repeats iraf_vo_run N times on one sequence and prints the Sim(3) ATE RMSE of every run, the median, the
 # max, max/median and the number of "collapses" (ATE > 5x the median, or lost / reset runs). Used to check
-# that threaded mapping is reproducible (issue 11 step 5).
+# that threaded mapping is reproducible.
 #
 # usage: scripts/repeat_runs.sh [-n RUNS] [-j PARALLEL] [-b BIN_DIR] [-o OUT_DIR] SEQUENCE [-- iraf_vo_run args]
 #   SEQUENCE: euroc (= ../shared/data/euroc_mh01_600, frames 0-305, cam0 ground truth), euroc:DIR (an

@@ -3,7 +3,7 @@
 camera, the first frame of motion (from the ground truth: the first pose that differs from frame 0), the first
 frame with a pose (initialization), tracked % over the frames after the first 5 frames of motion, lost events,
 Sim(3) ATE RMSE, the ground-truth path length and the ATE in % of it. pass = tracked >= 95 % and ATE <= 1 %
-of the path (issue 11). Writes OUT/scenarios.md and OUT/scenarios_table.csv.
+of the path. Writes OUT/scenarios.md and OUT/scenarios_table.csv.
 
     scripts/sim_scenarios.py --out /tmp/iraf_vo_report
 """

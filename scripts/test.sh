@@ -11,6 +11,10 @@
 #        IRAF_VO_TSAN=1      afterwards also builds the core + the tracking unit tests with ThreadSanitizer in
 #                            build-tsan/ (IRAF_VO_TSAN_BUILD_DIR) and runs them (the local-mapping thread); any
 #                            data race report fails the run. Default: 1 when CI=true, else 0.
+#        IRAF_VO_FUZZ=1      afterwards also builds every libFuzzer target (test/fuzz) with clang in build-fuzz/
+#                            (IRAF_VO_FUZZ_BUILD_DIR) and runs each for IRAF_VO_FUZZ_SECONDS (default 5) s
+#                            (scripts/fuzz.sh): a fuzzer that does not build, or a crash found, fails the run.
+#                            Default: 1 when CI=true, else 0.
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -80,5 +84,13 @@ if [ "$(default_on_in_ci "${IRAF_VO_TSAN:-}")" = 1 ]; then
   export TSAN_OPTIONS="${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1:suppressions=$ROOT/test/sanitizers/tsan.supp}"
   tsan_regex="($(IFS='|'; echo "${tsan_tests[*]}"))\$"
   sanitizer_stage ThreadSanitizer "${IRAF_VO_TSAN_BUILD_DIR:-$ROOT/build-tsan}" thread "gtest_$tsan_regex" "^$tsan_regex"
+fi
+# libFuzzer targets: the README's fuzz command, a few seconds per target (a long run: scripts/fuzz.sh --seconds 600).
+if [ "$(default_on_in_ci "${IRAF_VO_FUZZ:-}")" = 1 ]; then
+  t0=$(date +%s)
+  # fuzz.sh's own sanitizer options, not the ASan stage's above.
+  (unset ASAN_OPTIONS UBSAN_OPTIONS LSAN_OPTIONS; "$ROOT/scripts/fuzz.sh" --seconds "${IRAF_VO_FUZZ_SECONDS:-5}") \
+    || { echo "test.sh: fuzz stage failed" >&2; status=1; }
+  echo "test.sh: fuzz stage took $(( $(date +%s) - t0 )) s"
 fi
 exit $status

@@ -285,7 +285,6 @@ CameraModelPtr loadCamera(const std::string& path, std::string* error) {
 
 bool saveCamera(const CameraModel& camera, const std::string& path, std::string* error) {
   const std::vector<double> p = camera.parameters();
-  const bool radtan = camera.modelName() == "pinhole-radtan";
   YAML::Emitter out;
   out.SetDoublePrecision(17);
   out << YAML::BeginMap;
@@ -300,7 +299,7 @@ bool saveCamera(const CameraModel& camera, const std::string& path, std::string*
   out << YAML::Key << "camera_model" << YAML::Value << "pinhole";
   out << YAML::Key << "intrinsics" << YAML::Value << YAML::Flow << YAML::BeginSeq << p[0] << p[1] << p[2] << p[3]
       << YAML::EndSeq;
-  out << YAML::Key << "distortion_model" << YAML::Value << (radtan ? "radial-tangential" : "equidistant");
+  out << YAML::Key << "distortion_model" << YAML::Value << camera.distortionModel();
   out << YAML::Key << "distortion_coefficients" << YAML::Value << YAML::Flow << YAML::BeginSeq;
   for (size_t i = 4; i < p.size(); ++i) out << p[i];
   out << YAML::EndSeq << YAML::EndMap;

@@ -1,8 +1,11 @@
 // One row of the enhancer's eqs. (11)-(12) (enhancer.cpp blendRow) with AVX-512: 16 pixels per float vector.
-// The same float operations in the same order, no fused multiply-add (CMake: -mno-fma -ffp-contract=off), so
+// The same float operations in the same order, no fused multiply-add (CMake: -ffp-contract=off; GCC: -mno-fma), so
 // the same bytes as the 128-bit and scalar code. Built with -mavx512f -mavx512bw on x86-64 only; called where
 // the CPU has AVX-512BW (checked at run time).
-#if defined(IRAF_VO_AVX512_KERNELS) && defined(__AVX512BW__)
+#if defined(IRAF_VO_AVX512_KERNELS) && !defined(__AVX512BW__)
+#error "blend_avx512.cpp needs AVX-512BW code generation (CMakeLists.txt sets its flags per compiler)"
+#endif
+#if defined(IRAF_VO_AVX512_KERNELS)
 
 // GCC 12 reports its own intrinsics' undefined-vector placeholders as maybe-uninitialized once inlined here.
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"

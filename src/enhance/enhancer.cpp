@@ -8,36 +8,24 @@
 #include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "iraf_vo/common/enum_names.h"
 #include "iraf_vo/common/wall_clock.h"
 
 namespace iraf_vo {
 
-const char* toString(BrightnessClass c) {
-  switch (c) {
-    case BrightnessClass::kDim: return "dim";
-    case BrightnessClass::kBright: return "bright";
-    default: return "normal";
-  }
-}
+namespace {
+constexpr EnumName<BrightnessClass> kBrightnessNames[] = {
+    {BrightnessClass::kDim, "dim"}, {BrightnessClass::kNormal, "normal"}, {BrightnessClass::kBright, "bright"}};
+constexpr EnumName<EnhanceMethod> kMethodNames[] = {
+    {EnhanceMethod::kNone, "none"}, {EnhanceMethod::kIraf, "iraf"}, {EnhanceMethod::kHe, "he"},
+    {EnhanceMethod::kClahe, "clahe"}};
+}  // namespace
 
-const char* toString(EnhanceMethod m) {
-  switch (m) {
-    case EnhanceMethod::kNone: return "none";
-    case EnhanceMethod::kHe: return "he";
-    case EnhanceMethod::kClahe: return "clahe";
-    default: return "iraf";
-  }
-}
+const char* toString(BrightnessClass c) { return nameOf(kBrightnessNames, c, "normal"); }
 
-bool parseEnhanceMethod(const std::string& s, EnhanceMethod* m) {
-  for (EnhanceMethod c : {EnhanceMethod::kNone, EnhanceMethod::kIraf, EnhanceMethod::kHe, EnhanceMethod::kClahe}) {
-    if (s == toString(c)) {
-      *m = c;
-      return true;
-    }
-  }
-  return false;
-}
+const char* toString(EnhanceMethod m) { return nameOf(kMethodNames, m, "iraf"); }
+
+bool parseEnhanceMethod(const std::string& s, EnhanceMethod* m) { return parseName(kMethodNames, s, m); }
 
 std::string validate(const EnhanceParams& cfg) {
   // Upper bounds (far beyond cfg/Enhance.cfg's ranges) keep OpenCV from huge allocations / float overflow

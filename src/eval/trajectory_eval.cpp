@@ -7,26 +7,22 @@
 #include <cstdio>
 #include <sstream>
 
+#include "iraf_vo/common/enum_names.h"
+
 namespace iraf_vo {
+
+namespace {
+constexpr EnumName<AlignMode> kAlignNames[] = {
+    {AlignMode::kNone, "none"}, {AlignMode::kSE3, "se3"}, {AlignMode::kSim3, "sim3"}};
+}  // namespace
 
 bool parseAlignMode(const std::string& s_in, AlignMode* mode) {
   std::string s = s_in;
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (s == "none") *mode = AlignMode::kNone;
-  else if (s == "se3") *mode = AlignMode::kSE3;
-  else if (s == "sim3") *mode = AlignMode::kSim3;
-  else return false;
-  return true;
+  return parseName(kAlignNames, s, mode);
 }
 
-const char* alignModeName(AlignMode m) {
-  switch (m) {
-    case AlignMode::kNone: return "none";
-    case AlignMode::kSE3: return "se3";
-    case AlignMode::kSim3: return "sim3";
-  }
-  return "?";
-}
+const char* alignModeName(AlignMode m) { return nameOf(kAlignNames, m); }
 
 Eigen::Isometry3d Sim3::apply(const Eigen::Isometry3d& T) const {
   Eigen::Isometry3d out = Eigen::Isometry3d::Identity();

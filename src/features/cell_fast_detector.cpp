@@ -26,7 +26,7 @@ namespace iraf_vo {
 // below the cell's, no per-run calls. Both give the same corners except where non-max suppression sees a
 // neighbour across a run's ROI border (reference) that the one pass sees (fast path); with equal thresholds
 // in a strip (adaptive_threshold off) they are identical.
-// (Measured alternative, issue 12: one cv::FAST pass over the whole level at its lowest cell threshold,
+// (Measured alternative: one cv::FAST pass over the whole level at its lowest cell threshold,
 // filtered by score, costs 2.7x the scan at 20 on EuRoC level 0 when that lowest threshold is ft_min = 7,
 // which is the case on most frames: slower than the strips.)
 void CellFastDetector::detect(const cv::Mat& img, const CellGrid& g, const std::vector<double>& thresholds,
@@ -54,7 +54,7 @@ void CellFastDetector::detect(const cv::Mat& img, const CellGrid& g, const std::
 
 void CellFastDetector::fastAt(const cv::Mat& roi, int t, std::vector<cv::KeyPoint>* kps) {
   // detectFast9 with every column at t gives exactly cv::FAST(roi, kps, t, true) (same corners, scores,
-  // order; test Fast9.EqualsCvFastForOneThreshold), ~2x faster on EuRoC strips (issue 12).
+  // order; test Fast9.EqualsCvFastForOneThreshold), ~2x faster on EuRoC strips.
   col_th_.assign(roi.cols, static_cast<uint8_t>(std::min(t, 255)));
   detectFast9(roi, col_th_.data(), kps, &fast9_buffers_);
 }

@@ -8,7 +8,7 @@ namespace iraf_vo {
 std::string validate(const FeatureParams& p) {
   std::ostringstream e;
   // Upper bound: extract() reserves 4 * n_features candidates (int overflow / std::length_error for huge values,
-  // found by test_bad_inputs FeatureExtractorExtremeValidParams); 100000 is 10x cfg/Features.cfg's maximum.
+  // found by test_bad_params FeatureExtractorExtremeValidParams); 100000 is 10x cfg/Features.cfg's maximum.
   if (p.n_features < 1 || p.n_features > 100000) e << "n_features must be in [1, 100000] (got " << p.n_features << "); ";
   if (!(p.scale_factor > 1.0 && p.scale_factor <= 4.0)) e << "scale_factor must be in (1, 4] (got " << p.scale_factor << "); ";
   if (p.n_levels < 1 || p.n_levels > 32) e << "n_levels must be in [1, 32] (got " << p.n_levels << "); ";

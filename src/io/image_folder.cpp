@@ -6,9 +6,9 @@
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgproc.hpp>
-#include <sys/stat.h>
 
 #include "iraf_vo/camera/camera_loader.h"
+#include "iraf_vo/common/file_util.h"
 #include "iraf_vo/io/image_codecs.h"
 #include "iraf_vo/io/png_gray8.h"
 
@@ -16,20 +16,6 @@ namespace iraf_vo {
 
 namespace {
 
-bool isDir(const std::string& p) {
-  struct stat st;
-  return ::stat(p.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
-}
-bool isFile(const std::string& p) {
-  struct stat st;
-  return ::stat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode);
-}
-std::string trim(const std::string& s) {
-  size_t b = 0, e = s.size();
-  while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
-  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
-  return s.substr(b, e - b);
-}
 std::string stripSlash(std::string s) {
   while (s.size() > 1 && s.back() == '/') s.pop_back();
   return s;

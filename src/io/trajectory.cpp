@@ -9,27 +9,12 @@
 #include <fstream>
 #include <numeric>
 #include <sstream>
-#include <sys/stat.h>
+
+#include "iraf_vo/common/file_util.h"
 
 namespace iraf_vo {
 
 namespace {
-
-bool isFile(const std::string& p) {
-  struct stat st;
-  return ::stat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode);
-}
-bool isDir(const std::string& p) {
-  struct stat st;
-  return ::stat(p.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
-}
-
-std::string trim(const std::string& s) {
-  size_t b = 0, e = s.size();
-  while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
-  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
-  return s.substr(b, e - b);
-}
 
 /// Splits on commas (csv) or whitespace.
 std::vector<std::string> split(const std::string& line, bool csv) {

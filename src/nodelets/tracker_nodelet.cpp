@@ -2,7 +2,7 @@
 // /diagnostics. Thin: converts messages and publishes what iraf_vo::TrackingSession (run rules: stamps, restarts,
 // anchor, trajectory, counters, warnings), iraf_vo::OdometryOutput (base frame, covariance, twist) and
 // run_monitor.h (missed frames, rates, status line) return. Calibration: ~camera_file or camera_info (CameraSource).
-// Frames (REP-103 / REP-105; README "Frames"): world_frame (default odom) = the base frame (~base_frame; empty = the
+// Frames (REP-103 / REP-105; docs/ros_interface.md "Frames"): world_frame (default odom) = the base frame (~base_frame; empty = the
 // camera optical frame, as before) at the start of the map; child = base_frame (or the camera frame).
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <nav_msgs/Path.h>
@@ -116,8 +116,7 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
   void startSession(const CameraModelPtr& cam, const std::string& why) {
     if (resolution_rule_) {  // before mutex_: replaceParams takes the reconfigure lock, whose callback takes mutex_
       TrackerParams p = params();
-      const std::string rule = applyTrackerResolutionRule(cam->width(), cam->height(), cam->focal(),
-                                                          cam->modelName() == "kannala-brandt", userSet(), &p);
+      const std::string rule = applyTrackerResolutionRule(*cam, userSet(), &p);
       replaceParams(p);
       NODELET_INFO("tracker: resolution rule, %s (~parameters given are kept; ~resolution_rule false: off)",
                    rule.c_str());

@@ -4,16 +4,6 @@
 
 namespace iraf_vo {
 
-bool AslFrameSource::read(long index, SourceImage* out) {
-  if (index < 0 || index >= static_cast<long>(reader_->size())) return false;
-  if (!reader_->loadImage(static_cast<size_t>(index), &out->gray, &out->error) && out->error.empty())
-    out->error = "unreadable image";
-  out->stamp = reader_->entries()[index].stamp();
-  return true;
-}
-
-std::string AslFrameSource::describe(long index) const { return reader_->entries()[index].path; }
-
 OfflinePipeline::OfflinePipeline(FrameSource* source, const EnhanceParams& enhance, const FeatureParams& features,
                                  const PipelineOptions& options)
     : source_(source),

@@ -80,7 +80,7 @@ ResolutionDefaults resolutionDefaults(int width, int height, double focal, doubl
   // Fisheye: a new point's depth error ~ (pixel noise / focal) / parallax, so the same margin in pixels needs a
   // parallax ~ 1 / focal (f 191: 2.4 deg); its scale had drifted 10-35 % over 300 frames at 1 deg. Narrow pinhole
   // cameras keep 1 deg: points leave their view sooner, and 1 / focal starved the map of dark low-resolution
-  // sequences (240x180 slider, dark: 5.8 -> 13.4 mm; 376x240, dark: 635 -> 167 points, lost twice). README.
+  // sequences (240x180 slider, dark: 5.8 -> 13.4 mm; 376x240, dark: 635 -> 167 points, lost twice). docs/decisions.md.
   if (fisheye) d.min_triangulation_parallax_deg = std::round(100.0 * ref.min_triangulation_parallax_deg / f) / 100.0;
   const double n = d.n_features / static_cast<double>(ref.n_features);
   d.init_min_matches = static_cast<int>(std::lround(ref.init_min_matches * n));
@@ -126,6 +126,15 @@ std::string applyTrackerResolutionRule(int width, int height, double focal, bool
 std::string applyResolutionRule(int width, int height, double focal, bool fisheye, PipelineParams* p) {
   const std::string f = applyFeatureResolutionRule(width, height, p->user_set, &p->features);
   return f + ", " + applyTrackerResolutionRule(width, height, focal, fisheye, p->user_set, &p->tracker);
+}
+
+std::string applyResolutionRule(const CameraModel& camera, PipelineParams* p) {
+  return applyResolutionRule(camera.width(), camera.height(), camera.focal(), camera.isFisheye(), p);
+}
+
+std::string applyTrackerResolutionRule(const CameraModel& camera, const std::set<std::string>& user_set,
+                                       TrackerParams* p) {
+  return applyTrackerResolutionRule(camera.width(), camera.height(), camera.focal(), camera.isFisheye(), user_set, p);
 }
 
 }  // namespace iraf_vo

@@ -8,13 +8,17 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "iraf_vo/common/enum_names.h"
+
 namespace iraf_vo {
 
 namespace {
-const PhotometricEventType kAllTypes[] = {
-    PhotometricEventType::kGainRamp,  PhotometricEventType::kOverExposure, PhotometricEventType::kLightSwitch,
-    PhotometricEventType::kFlicker,   PhotometricEventType::kSpotlight,    PhotometricEventType::kShadow,
-    PhotometricEventType::kVignetting, PhotometricEventType::kNoise,       PhotometricEventType::kMotionBlur};
+constexpr EnumName<PhotometricEventType> kTypeNames[] = {
+    {PhotometricEventType::kGainRamp, "gain_ramp"},     {PhotometricEventType::kOverExposure, "over_exposure"},
+    {PhotometricEventType::kLightSwitch, "light_switch"}, {PhotometricEventType::kFlicker, "flicker"},
+    {PhotometricEventType::kSpotlight, "spotlight"},    {PhotometricEventType::kShadow, "shadow"},
+    {PhotometricEventType::kVignetting, "vignetting"},  {PhotometricEventType::kNoise, "noise"},
+    {PhotometricEventType::kMotionBlur, "motion_blur"}};
 
 /// Progress in [0, 1) of `frame` inside the event range (end resolved with num_frames when open).
 double progress(const PhotometricEvent& e, int frame) {
@@ -43,29 +47,9 @@ uint64_t mix64(uint64_t x) {
 }
 }  // namespace
 
-const char* toString(PhotometricEventType t) {
-  switch (t) {
-    case PhotometricEventType::kGainRamp: return "gain_ramp";
-    case PhotometricEventType::kOverExposure: return "over_exposure";
-    case PhotometricEventType::kLightSwitch: return "light_switch";
-    case PhotometricEventType::kFlicker: return "flicker";
-    case PhotometricEventType::kSpotlight: return "spotlight";
-    case PhotometricEventType::kShadow: return "shadow";
-    case PhotometricEventType::kVignetting: return "vignetting";
-    case PhotometricEventType::kNoise: return "noise";
-    case PhotometricEventType::kMotionBlur: return "motion_blur";
-  }
-  return "unknown";
-}
+const char* toString(PhotometricEventType t) { return nameOf(kTypeNames, t, "unknown"); }
 
-bool parsePhotometricEventType(const std::string& s, PhotometricEventType* t) {
-  for (PhotometricEventType c : kAllTypes)
-    if (s == toString(c)) {
-      *t = c;
-      return true;
-    }
-  return false;
-}
+bool parsePhotometricEventType(const std::string& s, PhotometricEventType* t) { return parseName(kTypeNames, s, t); }
 
 std::string validate(const PhotometricParams& params) {
   std::ostringstream err;
@@ -192,14 +176,14 @@ double globalGain(const PhotometricParams& params, int frame) {
   return g;
 }
 
-void applyPhotometric(const cv::Mat& in, int frame, const PhotometricParams& params, cv::Mat* out) {
-  if (in.empty()) throw std::invalid_argument("applyPhotometric: empty image");
+void applyIllumination(const cv::Mat& in, int frame, const PhotometricParams& params, cv::Mat* out) {
+  if (in.empty()) throw std::invalid_argument("applyIllumination: empty image");
   if (in.type() != CV_8UC1 && in.type() != CV_32FC1)
-    throw std::invalid_argument("applyPhotometric: image must be CV_8UC1 or CV_32FC1 (got type " +
+    throw std::invalid_argument("applyIllumination: image must be CV_8UC1 or CV_32FC1 (got type " +
                                 std::to_string(in.type()) + ")");
   const int w = in.cols, h = in.rows;
   cv::Mat img;
-  in.convertTo(img, CV_32F);
+  in.convertTo(img, CV_32F);  // a copy: `in` may be *out
 
   // Spatial gains (vignetting, spotlight, shadow) multiply into one map.
   cv::Mat gain_map;
@@ -252,6 +236,17 @@ void applyPhotometric(const cv::Mat& in, int frame, const PhotometricParams& par
   } else if (g != 1.0) {
     img *= g;
   }
+  *out = img;
+}
+
+void applyPhotometric(const cv::Mat& in, int frame, const PhotometricParams& params, cv::Mat* out) {
+  if (in.empty()) throw std::invalid_argument("applyPhotometric: empty image");
+  if (in.type() != CV_8UC1 && in.type() != CV_32FC1)
+    throw std::invalid_argument("applyPhotometric: image must be CV_8UC1 or CV_32FC1 (got type " +
+                                std::to_string(in.type()) + ")");
+  const int w = in.cols, h = in.rows;
+  cv::Mat img;
+  applyIllumination(in, frame, params, &img);
 
   for (const PhotometricEvent& e : params.events) {
     if (!e.activeAt(frame) || e.type != PhotometricEventType::kMotionBlur || e.amplitude < 1.0) continue;

@@ -352,16 +352,27 @@ void Renderer::render(const Eigen::Isometry3d& T_W_C, cv::Mat* radiance, cv::Mat
 }
 
 void Renderer::renderFrame(const TrajectoryParams& traj, int frame, cv::Mat* radiance, cv::Mat* depth) const {
+  renderBlurred(traj, frame, params_.exposure_time_s, params_.motion_blur_samples, radiance, depth);
+}
+
+void Renderer::renderFrame(const TrajectoryParams& traj, int frame, double exposure_s, cv::Mat* radiance,
+                           cv::Mat* depth) const {
+  const double ratio = params_.exposure_time_s > 0.0 ? exposure_s / params_.exposure_time_s : 1.0;
+  const long n = std::lround(params_.motion_blur_samples * ratio);
+  renderBlurred(traj, frame, exposure_s, static_cast<int>(std::min(16L, std::max(1L, n))), radiance, depth);
+}
+
+void Renderer::renderBlurred(const TrajectoryParams& traj, int frame, double exposure_s, int n, cv::Mat* radiance,
+                             cv::Mat* depth) const {
   const double t = frameTime(frame);
-  const int n = params_.motion_blur_samples;
-  if (n <= 1 || params_.exposure_time_s <= 0.0 || depth) {
+  if (n <= 1 || exposure_s <= 0.0 || depth) {
     render(trajectoryPose(traj, t), radiance, depth);  // depth: of the mid-exposure pose
-    if (n <= 1 || params_.exposure_time_s <= 0.0) return;
+    if (n <= 1 || exposure_s <= 0.0) return;
   }
   // Motion blur: average of n renders spread uniformly over [t - exposure/2, t + exposure/2].
   cv::Mat acc = cv::Mat::zeros(h_, w_, CV_32FC1), sub;
   for (int i = 0; i < n; ++i) {
-    const double ts = t + params_.exposure_time_s * ((i + 0.5) / n - 0.5);
+    const double ts = t + exposure_s * ((i + 0.5) / n - 0.5);
     render(trajectoryPose(traj, ts), &sub, nullptr);
     acc += sub;
   }

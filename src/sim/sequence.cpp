@@ -1,6 +1,5 @@
 #include "iraf_vo/sim/sequence.h"
 
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +10,8 @@
 #include <opencv2/imgproc.hpp>
 
 #include "iraf_vo/camera/camera_loader.h"
+#include "iraf_vo/common/wall_clock.h"
+#include "iraf_vo/sim/image_formation.h"
 #include "iraf_vo/io/image_codecs.h"
 
 namespace iraf_vo {
@@ -18,9 +19,6 @@ namespace iraf_vo {
 namespace fs = std::filesystem;
 
 namespace {
-double msSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
 void setError(std::string* error, const std::string& msg) {
   if (error) *error = msg;
 }
@@ -72,7 +70,6 @@ CameraModelPtr makeSimCamera(const std::string& camera, int width, int height, s
 
 bool writeSensorYaml(const CameraModel& camera, double rate_hz, const std::string& path, std::string* error) {
   const std::vector<double> p = camera.parameters();
-  const bool radtan = camera.modelName() == "pinhole-radtan";
   std::ofstream f(path);
   if (!f) {
     setError(error, path + ": cannot write");
@@ -91,7 +88,7 @@ bool writeSensorYaml(const CameraModel& camera, double rate_hz, const std::strin
     << "resolution: [" << camera.width() << ", " << camera.height() << "]\n"
     << "camera_model: pinhole\n"
     << "intrinsics: [" << num(p[0]) << ", " << num(p[1]) << ", " << num(p[2]) << ", " << num(p[3]) << "]  # fu, fv, cu, cv\n"
-    << "distortion_model: " << (radtan ? "radial-tangential" : "equidistant") << "\n"
+    << "distortion_model: " << camera.distortionModel() << "\n"
     << "distortion_coefficients: [";
   for (size_t i = 4; i < p.size(); ++i) f << (i > 4 ? ", " : "") << num(p[i]);
   f << "]\n";
@@ -130,14 +127,13 @@ bool makeDirs(const std::string& path, std::string* error) {
   return true;
 }
 
-bool simulateSequence(const Renderer& renderer, const TrajectoryParams& traj, const PhotometricParams& photometric,
-                      const std::string& out_dir, const std::function<void(const SimFrame&)>& on_frame,
-                      SimulateReport* report, std::string* error) {
-  const std::string perr = validate(photometric);
-  if (!perr.empty()) {
-    setError(error, "photometric events: " + perr);
-    return false;
-  }
+namespace {
+/// Renders (with depth when asked) and forms the image of frame f->index, adding to the report's times.
+using FormFrame = std::function<void(SimFrame* f, SimulateReport* rep)>;
+
+bool writeSimulation(const Renderer& renderer, const TrajectoryParams& traj, const PhotometricParams& photometric,
+                     const FormFrame& form, const std::string& out_dir,
+                     const std::function<void(const SimFrame&)>& on_frame, SimulateReport* report, std::string* error) {
   const int n = renderer.params().frames;
   const bool write_depth = renderer.params().write_depth;
   std::ofstream csv, gt, depth_csv;
@@ -167,20 +163,15 @@ bool simulateSequence(const Renderer& renderer, const TrajectoryParams& traj, co
        << "# timestamp[s] tx ty tz qx qy qz qw\n";
   }
   SimulateReport rep;
-  cv::Mat radiance;
   for (int i = 0; i < n; ++i) {
     SimFrame f;
     f.index = i;
     f.stamp_ns = renderer.frameStampNs(i);
     f.T_W_C = trajectoryPose(traj, renderer.frameTime(i));
-    auto t0 = std::chrono::steady_clock::now();
-    renderer.renderFrame(traj, i, &radiance, write_depth ? &f.depth : nullptr);
-    rep.render_ms += msSince(t0);
-    t0 = std::chrono::steady_clock::now();
-    applyPhotometric(radiance, i, photometric, &f.image);
-    rep.photometric_ms += msSince(t0);
+    form(&f, &rep);
+    auto t0 = SteadyClock::now();
     if (!out_dir.empty()) {
-      t0 = std::chrono::steady_clock::now();
+      t0 = SteadyClock::now();
       const std::string name = std::to_string(f.stamp_ns) + ".png";
       if (!codecs::imwrite(cam_dir + "/data/" + name, f.image)) {
         setError(error, cam_dir + "/data/" + name + ": cannot write PNG");
@@ -208,6 +199,72 @@ bool simulateSequence(const Renderer& renderer, const TrajectoryParams& traj, co
   }
   if (report) *report = rep;
   return true;
+}
+}  // namespace
+
+bool simulateSequence(const Renderer& renderer, const TrajectoryParams& traj, const PhotometricParams& photometric,
+                      const std::string& out_dir, const std::function<void(const SimFrame&)>& on_frame,
+                      SimulateReport* report, std::string* error) {
+  const std::string perr = validate(photometric);
+  if (!perr.empty()) {
+    setError(error, "photometric events: " + perr);
+    return false;
+  }
+  cv::Mat radiance;
+  const bool write_depth = renderer.params().write_depth;
+  auto form = [&](SimFrame* f, SimulateReport* rep) {
+    auto t0 = SteadyClock::now();
+    renderer.renderFrame(traj, f->index, &radiance, write_depth ? &f->depth : nullptr);
+    rep->render_ms += msSince(t0);
+    t0 = SteadyClock::now();
+    applyPhotometric(radiance, f->index, photometric, &f->image);
+    rep->photometric_ms += msSince(t0);
+  };
+  return writeSimulation(renderer, traj, photometric, form, out_dir, on_frame, report, error);
+}
+
+bool simulateSequence(const Renderer& renderer, const TrajectoryParams& traj, const LightProfile& light,
+                      const std::string& out_dir, const std::function<void(const SimFrame&)>& on_frame,
+                      SimulateReport* report, std::string* error) {
+  const std::string lerr = validate(light);
+  if (!lerr.empty()) {
+    setError(error, "light profile '" + light.name + "': " + lerr);
+    return false;
+  }
+  ImageFormation formation(light, renderer.cameraPtr());
+  const int n = renderer.params().frames;
+  const Eigen::Vector2d centre(0.5 * (renderer.camera().width() - 1), 0.5 * (renderer.camera().height() - 1));
+  if (light.glare.enabled) {
+    std::vector<Eigen::Vector3d> lamps;
+    for (int k = 0; k < light.glare.spots; ++k) {
+      const int frame = static_cast<int>((k + 0.5) * n / light.glare.spots);
+      Eigen::Vector3d p;
+      if (renderer.castPixel(trajectoryPose(traj, renderer.frameTime(frame)), centre, &p)) lamps.push_back(p);
+    }
+    formation.setGlareLamps(lamps);
+  }
+  const bool geometry = formation.needsGeometry() || renderer.params().write_depth;
+  std::vector<FrameLight> lights;
+  cv::Mat radiance;
+  FrameGeometry g;
+  auto form = [&](SimFrame* f, SimulateReport* rep) {
+    auto t0 = SteadyClock::now();
+    if (f->index == 0 && light.ae.enabled) {  // a camera that has been running: its auto-exposure has settled on the first view
+      renderer.renderFrame(traj, 0, formation.nextExposure().time_s, &radiance, geometry ? &g.depth : nullptr);
+      g.T_W_C = f->T_W_C;
+      formation.settle(radiance, geometry ? &g : nullptr);
+    }
+    renderer.renderFrame(traj, f->index, formation.nextExposure().time_s, &radiance, geometry ? &g.depth : nullptr);
+    g.T_W_C = f->T_W_C;
+    rep->render_ms += msSince(t0);
+    t0 = SteadyClock::now();
+    formation.capture(f->index, radiance, geometry ? &g : nullptr, &f->image, &f->light);
+    if (geometry) f->depth = g.depth.clone();
+    lights.push_back(f->light);
+    rep->photometric_ms += msSince(t0);
+  };
+  if (!writeSimulation(renderer, traj, light.scene, form, out_dir, on_frame, report, error)) return false;
+  return out_dir.empty() || writeExposureCsv(out_dir + "/exposure.csv", lights, error);
 }
 
 bool readAslCsv(const std::string& path, std::vector<std::pair<int64_t, std::string>>* rows, std::string* error) {
@@ -238,13 +295,12 @@ bool readAslCsv(const std::string& path, std::vector<std::pair<int64_t, std::str
   return true;
 }
 
-bool degradeAslSequence(const std::string& in_dir, const std::string& out_dir, const PhotometricParams& photometric,
-                        DegradeReport* report, std::string* error) {
-  const std::string perr = validate(photometric);
-  if (!perr.empty()) {
-    setError(error, "photometric events: " + perr);
-    return false;
-  }
+namespace {
+/// Forms output image `index` (rows(), timestamps) from the real image `img` (CV_8UC1).
+using FormImage = std::function<void(int index, int64_t stamp_ns, const cv::Mat& img, cv::Mat* out)>;
+
+bool degradeImages(const std::string& in_dir, const std::string& out_dir, const PhotometricParams& photometric,
+                   const FormImage& form, DegradeReport* report, std::string* error) {
   const std::string in_cam = in_dir + "/mav0/cam0", out_cam = out_dir + "/mav0/cam0";
   if (!fs::is_regular_file(in_cam + "/data.csv")) {
     setError(error, in_dir + ": not an ASL sequence (missing " + in_cam + "/data.csv)");
@@ -301,7 +357,7 @@ bool degradeAslSequence(const std::string& in_dir, const std::string& out_dir, c
       continue;
     }
     cv::Mat out;
-    applyPhotometric(img, static_cast<int>(i), photometric, &out);
+    form(static_cast<int>(i), rows[i].first, img, &out);
     const std::string dst = out_cam + "/data/" + rows[i].second;
     if (!codecs::imwrite(dst, out)) {
       std::cerr << "degrade: " << dst << ": cannot write, skipped\n";
@@ -314,6 +370,56 @@ bool degradeAslSequence(const std::string& in_dir, const std::string& out_dir, c
   if (!writeEventsCsv(out_dir + "/events.csv", photometric, rep.images, error)) return false;
   if (report) *report = rep;
   return true;
+}
+}  // namespace
+
+bool degradeAslSequence(const std::string& in_dir, const std::string& out_dir, const PhotometricParams& photometric,
+                        DegradeReport* report, std::string* error) {
+  const std::string perr = validate(photometric);
+  if (!perr.empty()) {
+    setError(error, "photometric events: " + perr);
+    return false;
+  }
+  auto form = [&](int index, int64_t, const cv::Mat& img, cv::Mat* out) {
+    applyPhotometric(img, index, photometric, out);
+  };
+  return degradeImages(in_dir, out_dir, photometric, form, report, error);
+}
+
+bool degradeAslSequence(const std::string& in_dir, const std::string& out_dir, const LightProfile& light,
+                        DegradeReport* report, std::string* error) {
+  const std::string lerr = validate(light);
+  if (!lerr.empty()) {
+    setError(error, "light profile '" + light.name + "': " + lerr);
+    return false;
+  }
+  std::string cam_err;
+  ImageFormation formation(light, loadCamera(in_dir + "/mav0/cam0/sensor.yaml", &cam_err));
+  std::vector<FrameLight> lights;
+  cv::Mat prev, cur;
+  int64_t prev_ns = 0;
+  auto form = [&](int index, int64_t stamp_ns, const cv::Mat& img, cv::Mat* out) {
+    img.convertTo(cur, CV_32F);
+    if (lights.empty()) formation.settle(cur, nullptr);
+    cv::Point2d motion(0.0, 0.0);
+    double period = 0.05;
+    // The image motion of the frame, for the blur of an exposure longer than the reference.
+    if (!prev.empty() && prev.size() == cur.size() &&
+        formation.nextExposure().time_s > light.sensor.reference_exposure_s) {
+      double response = 0.0;
+      motion = cv::phaseCorrelate(prev, cur, cv::noArray(), &response);
+      if (!(response > 0.05)) motion = cv::Point2d(0.0, 0.0);  // no consistent shift between the images
+      const double dt = (stamp_ns - prev_ns) * 1e-9;
+      if (dt > 1e-3 && dt < 1.0) period = dt;
+    }
+    FrameLight rec;
+    formation.capture(index, cur, nullptr, out, &rec, motion, period);
+    lights.push_back(rec);
+    std::swap(prev, cur);
+    prev_ns = stamp_ns;
+  };
+  if (!degradeImages(in_dir, out_dir, light.scene, form, report, error)) return false;
+  return writeExposureCsv(out_dir + "/exposure.csv", lights, error);
 }
 
 }  // namespace iraf_vo

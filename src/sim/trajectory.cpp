@@ -3,6 +3,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "iraf_vo/common/enum_names.h"
+
 namespace iraf_vo {
 
 namespace {
@@ -81,24 +83,16 @@ Eigen::Isometry3d sliderPose(const TrajectoryParams& p, double t) {
 
 }  // namespace
 
-const char* toString(MotionKind m) {
-  switch (m) {
-    case MotionKind::kRoom: return "room";
-    case MotionKind::kDrive: return "drive";
-    case MotionKind::kSlider: return "slider";
-    case MotionKind::kHandheldFast: return "handheld_fast";
-  }
-  return "?";
-}
+namespace {
+constexpr EnumName<MotionKind> kMotionNames[] = {{MotionKind::kRoom, "room"},
+                                                 {MotionKind::kDrive, "drive"},
+                                                 {MotionKind::kSlider, "slider"},
+                                                 {MotionKind::kHandheldFast, "handheld_fast"}};
+}  // namespace
 
-bool parseMotionKind(const std::string& s, MotionKind* m) {
-  for (MotionKind k : {MotionKind::kRoom, MotionKind::kDrive, MotionKind::kSlider, MotionKind::kHandheldFast})
-    if (s == toString(k)) {
-      *m = k;
-      return true;
-    }
-  return false;
-}
+const char* toString(MotionKind m) { return nameOf(kMotionNames, m); }
+
+bool parseMotionKind(const std::string& s, MotionKind* m) { return parseName(kMotionNames, s, m); }
 
 std::string motionKindNames() { return "room|drive|slider|handheld_fast"; }
 

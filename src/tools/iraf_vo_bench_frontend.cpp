@@ -27,19 +27,13 @@
 #include <vector>
 
 #include "iraf_vo/common/cpu_clock.h"
+#include "iraf_vo/common/median.h"
 #include "iraf_vo/enhance/enhancer.h"
 #include "iraf_vo/features/feature_extractor.h"
 
 using namespace iraf_vo;
 
 namespace {
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  auto mid = v.begin() + v.size() / 2;
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
-}
 
 // Minimal private ASL reader: DIR/mav0/cam0/data.csv rows "timestamp_ns,filename".
 bool readAsl(const std::string& dir, int max_frames, std::vector<cv::Mat>* images, std::string* err) {

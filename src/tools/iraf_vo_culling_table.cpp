@@ -1,5 +1,5 @@
 // iraf_vo_culling_table: does the culling score separate keypoints that the tracker uses from those it
-// does not? (issue 12 step 2)
+// does not? (docs/evaluation.md, culling table)
 //
 //   iraf_vo_culling_table --dataset DIR [--first N] [--frames N] [--no-enhance] [--apply-culling] [--bins B]
 //                         [--set features.key=value ...] [--set tracker.key=value ...] [--csv FILE]

@@ -1,20 +1,25 @@
-// iraf_vo_degrade: applies the simulator's photometric events to a real ASL sequence (e.g. EuRoC),
-// keeping timestamps, calibration and ground truth.
+// iraf_vo_degrade: passes a real ASL sequence (e.g. EuRoC) through the simulator's camera model with one
+// of its light profiles (the 8-bit images taken as linear radiance at the reference exposure), keeping
+// timestamps, calibration and ground truth.
 //
-//   iraf_vo_degrade DIR OUT --profile dark|overexposed|flicker|mixed [--seed S]
+//   iraf_vo_degrade DIR OUT --profile clean|dark|...|glare [--seed S] [--reference-exposure SEC (0.01)]
 //
 // Copies mav0/cam0/sensor.yaml, any groundtruth*/ folder, mav0/state_groundtruth_estimate0/ (and the
-// other mav0 sensors), writes OUT/mav0/cam0/data.csv + data/*.png and OUT/events.csv. Missing or
-// unreadable images are reported and skipped; a missing dataset exits non-zero.
+// other mav0 sensors), writes OUT/mav0/cam0/data.csv + data/*.png, OUT/events.csv and OUT/exposure.csv.
+// Missing or unreadable images are reported and skipped; a missing dataset exits non-zero.
 #include <iostream>
 #include <string>
 
-#include "iraf_vo/sim/photometric.h"
+#include <algorithm>
+#include <vector>
+
+#include "iraf_vo/sim/light_profile.h"
 #include "iraf_vo/sim/sequence.h"
 
 namespace {
 void usage(std::ostream& os) {
-  os << "usage: iraf_vo_degrade DIR OUT --profile " << iraf_vo::photometricPresetNames() << " [--seed S]\n"
+  os << "usage: iraf_vo_degrade DIR OUT --profile " << iraf_vo::lightProfileNames() << "\n"
+        "         [--seed S] [--reference-exposure SEC (0.01: the exposure the images were taken with)]\n"
         "  DIR: ASL sequence (DIR/mav0/cam0/data.csv + data/), OUT: output folder (same layout)\n";
 }
 }  // namespace
@@ -22,13 +27,14 @@ void usage(std::ostream& os) {
 int main(int argc, char** argv) {
   std::string in_dir, out_dir, profile;
   long seed = 1;
+  double reference_exposure = 0.01;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "-h" || a == "--help") {
       usage(std::cout);
       return 0;
     }
-    if (a == "--profile" || a == "--seed") {
+    if (a == "--profile" || a == "--seed" || a == "--reference-exposure") {
       if (i + 1 >= argc) {
         std::cerr << "iraf_vo_degrade: " << a << " needs a value\n";
         return 2;
@@ -36,6 +42,15 @@ int main(int argc, char** argv) {
       const std::string v = argv[++i];
       if (a == "--profile") {
         profile = v;
+      } else if (a == "--reference-exposure") {
+        try {
+          size_t used = 0;
+          reference_exposure = std::stod(v, &used);
+          if (used != v.size() || !(reference_exposure > 0.0 && reference_exposure <= 1.0)) throw std::out_of_range("t");
+        } catch (const std::exception&) {
+          std::cerr << "iraf_vo_degrade: --reference-exposure must be a number in (0, 1] s (got '" << v << "')\n";
+          return 2;
+        }
       } else {
         try {
           size_t used = 0;
@@ -72,17 +87,25 @@ int main(int argc, char** argv) {
     std::cerr << "iraf_vo_degrade: " << in_dir << ": not an ASL sequence (" << err << ")\n";
     return 1;
   }
-  iraf_vo::PhotometricParams photometric;
-  if (!iraf_vo::photometricPreset(profile, static_cast<int>(rows.size()), true, static_cast<uint64_t>(seed),
-                                  &photometric)) {
-    std::cerr << "iraf_vo_degrade: unknown --profile '" << profile << "' (use " << iraf_vo::photometricPresetNames()
+  // Frame rate from the median time step (durations such as the blackout's are in seconds).
+  double rate_hz = 20.0;
+  if (rows.size() > 2) {
+    std::vector<int64_t> dt;
+    for (size_t i = 1; i < rows.size(); ++i) dt.push_back(rows[i].first - rows[i - 1].first);
+    std::nth_element(dt.begin(), dt.begin() + dt.size() / 2, dt.end());
+    if (dt[dt.size() / 2] > 0) rate_hz = 1e9 / static_cast<double>(dt[dt.size() / 2]);
+  }
+  iraf_vo::LightProfile light;
+  if (!iraf_vo::lightProfile(profile, static_cast<int>(rows.size()), rate_hz, reference_exposure, true,
+                             static_cast<uint64_t>(seed), &light)) {
+    std::cerr << "iraf_vo_degrade: unknown --profile '" << profile << "' (use " << iraf_vo::lightProfileNames()
               << ")\n";
     return 2;
   }
   iraf_vo::DegradeReport rep;
   bool ok = false;
   try {
-    ok = iraf_vo::degradeAslSequence(in_dir, out_dir, photometric, &rep, &err);
+    ok = iraf_vo::degradeAslSequence(in_dir, out_dir, light, &rep, &err);
   } catch (const std::exception& e) {
     err = e.what();
   }

@@ -7,6 +7,7 @@
 // tracked %, lost events, map points, per-stage median / 95 % ms, ATE when --gt).
 #include <iraf_vo/camera/camera_loader.h>
 #include <iraf_vo/common/wall_clock.h>
+#include <iraf_vo/eval/trajectory_eval.h>
 #include <iraf_vo/pipeline/pipeline_params.h>
 #include <iraf_vo/pipeline/run_report.h>
 #include <iraf_vo/pipeline/bag_frame_source.h>
@@ -162,8 +163,7 @@ int main(int argc, char** argv) {
   const iraf_vo::CameraModelPtr cam = iraf_vo::loadCamera(a.camera_path, &err);
   if (!cam) return std::fprintf(stderr, "iraf_vo_run: --camera %s: %s\n", a.camera_path.c_str(), err.c_str()), 1;
   if (!a.no_resolution_rule) {
-    const std::string rule = iraf_vo::applyResolutionRule(cam->width(), cam->height(), cam->focal(),
-                                                           cam->modelName() == "kannala-brandt", &params);
+    const std::string rule = iraf_vo::applyResolutionRule(*cam, &params);
     if (!a.quiet) std::fprintf(stderr, "iraf_vo_run: resolution rule: %s\n", rule.c_str());
     if (!(err = iraf_vo::validate(params)).empty()) return std::fprintf(stderr, "iraf_vo_run: %s\n", err.c_str()), 2;
   }

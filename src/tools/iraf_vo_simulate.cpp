@@ -1,9 +1,11 @@
 // iraf_vo_simulate: renders a textured scene (room, street or slider table) along the trajectory of a
 // motion preset (room loop, drive, slider, handheld_fast; optionally standing still first) through a
-// pinhole-radtan or Kannala-Brandt camera, applies photometric events and writes an ASL folder (+ TUM
-// ground truth, events.csv, optionally a rosbag with /cam0/image_raw mono8 and /groundtruth/pose).
+// pinhole-radtan or Kannala-Brandt camera, forms the images with a light profile (scene light, sensor
+// noise, auto-exposure; the shutter's motion blur follows the exposure) and writes an ASL folder (+ TUM
+// ground truth, events.csv, exposure.csv, optionally a rosbag with /cam0/image_raw mono8 and /groundtruth/pose).
 //
-//   iraf_vo_simulate --preset clean|dark|overexposed|flicker|mixed --out DIR [--motion M] [--static-start SEC]
+//   iraf_vo_simulate --preset clean|dark|overexposed|flicker|mixed|night|ae_hunting|light_switch|blackout|
+//                             flashlight|glare --out DIR [--motion M] [--static-start SEC]
 //       [--frames N] [--rate HZ] [--camera pinhole|fisheye|kitti|davis240|path/to/sensor.yaml]
 //       [--width W --height H] [--seed S] [--speed X] [--supersample S] [--motion-blur K] [--exposure SEC]
 //       [--bag OUT.bag] [--threads N] [--no-photos] [--depth]
@@ -23,6 +25,7 @@
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/image_encodings.h>
 
+#include "iraf_vo/sim/light_profile.h"
 #include "iraf_vo/sim/motion_preset.h"
 #include "iraf_vo/sim/photometric.h"
 #include "iraf_vo/sim/renderer.h"
@@ -33,7 +36,8 @@
 namespace {
 
 void usage(std::ostream& os) {
-  os << "usage: iraf_vo_simulate --preset " << iraf_vo::photometricPresetNames() << " --out DIR\n"
+  os << "usage: iraf_vo_simulate --preset " << iraf_vo::lightProfileNames() << "\n"
+        "         --out DIR\n"
         "         [--motion " << iraf_vo::motionKindNames() << " (room)] [--static-start SEC (0)]\n"
         "         [--frames N] [--rate HZ] [--camera pinhole|fisheye|kitti|davis240|path/to/sensor.yaml]\n"
         "         [--width W --height H] [--seed S] [--speed X (speed factor: loop rate, drive / slider speed)]\n"
@@ -165,11 +169,14 @@ int main(int argc, char** argv) {
   }
   sim.seed = static_cast<uint64_t>(seed);
   scene_params.seed = sim.seed;
-  iraf_vo::PhotometricParams photometric;
-  if (benchmark == 0 && !iraf_vo::photometricPreset(preset, sim.frames, false, sim.seed, &photometric)) {
-    std::cerr << "iraf_vo_simulate: unknown --preset '" << preset << "' (use " << iraf_vo::photometricPresetNames() << ")\n";
+  iraf_vo::LightProfile light;
+  if (benchmark == 0 && !iraf_vo::lightProfile(preset, sim.frames, sim.rate_hz, sim.exposure_time_s, false, sim.seed,
+                                               &light)) {
+    std::cerr << "iraf_vo_simulate: unknown --preset '" << preset << "' (use " << iraf_vo::lightProfileNames() << ")\n";
     return 2;
   }
+  // The flashlight is the only light: the scene is rendered as albedo (all ambient), the cone lights it.
+  if (light.flashlight.enabled) scene_params.ambient = 1.0;
 
   std::string err;
   iraf_vo::CameraModelPtr camera = iraf_vo::makeSimCamera(sim.camera, sim.width, sim.height, &err);
@@ -260,7 +267,7 @@ int main(int argc, char** argv) {
   t0 = std::chrono::steady_clock::now();
   bool ok = false;
   try {
-    ok = iraf_vo::simulateSequence(*renderer, traj, photometric, out_dir, on_frame, &rep, &err);
+    ok = iraf_vo::simulateSequence(*renderer, traj, light, out_dir, on_frame, &rep, &err);
   } catch (const std::exception& e) {
     err = e.what();
   }

@@ -5,18 +5,14 @@
 #include <sstream>
 #include <vector>
 
+#include "iraf_vo/common/median.h"
+
 namespace iraf_vo {
 
 namespace {
 
 constexpr size_t kHistory = 5;
 constexpr size_t kMinHistory = 3;
-
-double median(std::deque<double> v) {
-  if (v.empty()) return 0.0;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
 
 double rotationDeg(const Eigen::Matrix3d& R) { return Eigen::AngleAxisd(R).angle() * 180.0 / M_PI; }
 

@@ -21,6 +21,8 @@ class NormalizedPinhole final : public CameraModel {
  public:
   explicit NormalizedPinhole(double f) : f_(f) {}
   std::string modelName() const override { return "normalized"; }
+  CameraKind kind() const override { return CameraKind::kPinhole; }
+  std::string distortionModel() const override { return "none"; }
   bool project(const Eigen::Vector3d& p, Eigen::Vector2d* uv, Eigen::Matrix<double, 2, 3>* J) const override {
     if (p.z() <= 1e-9) return false;
     const double iz = 1.0 / p.z();

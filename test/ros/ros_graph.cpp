@@ -1,4 +1,4 @@
-// rostest of issue 13 (test/ros/ros_graph.test): the graph as a ROS user runs it on a live camera.
+// rostest test/ros/ros_graph.test: the graph as a ROS user runs it on a live camera.
 //   1. NoCalibration: without ~camera_file and before any camera_info, tracking_status says why at ~1 Hz and
 //      /diagnostics reports ERROR; an invalid camera_info (all-zero K) is named in that reason.
 //   2. CompressedBagWithCameraInfo: a bag with sensor_msgs/CompressedImage (png) + camera_info (plumb_bob), played

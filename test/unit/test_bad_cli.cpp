@@ -1,4 +1,4 @@
-// Bad input to the command-line tools (issue 7): each run must exit non-zero, print a message naming the bad
+// Bad input to the command-line tools: each run must exit non-zero, print a message naming the bad
 // file on stderr, and not crash (no signal, no sanitizer report). Tools are taken from IRAF_VO_BIN_DIR (built by
 // `make` / scripts/setup.sh before the tests run); a tool that is not built is skipped, not failed.
 #include <gtest/gtest.h>
@@ -222,7 +222,7 @@ TEST(BadCli, Degrade) {
                      missing, "missing dataset");
 }
 
-// Issue 13: an ASL folder with a missing and a truncated PNG. iraf_vo_enhance and iraf_vo_run name each file with
+// An ASL folder with a missing and a truncated PNG. iraf_vo_enhance and iraf_vo_run name each file with
 // its data.csv line and print how many rows were skipped; enhance exits 1 (some input not processed), run exits 0
 // (the frames are skipped, the run goes on; it fails only when no frame can be read).
 TEST(BadCli, SkippedImagesAreReported) {

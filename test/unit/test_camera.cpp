@@ -1,4 +1,5 @@
-// Camera models: round trip, analytic Jacobians, agreement with OpenCV, yaml loading and error reporting.
+// Camera models: round trip, analytic Jacobians, agreement with OpenCV, yaml loading and error reporting, and
+// callers that ask a model its kind.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -13,6 +14,7 @@
 #include "iraf_vo/camera/camera_loader.h"
 #include "iraf_vo/camera/kannala_brandt.h"
 #include "iraf_vo/camera/pinhole_radtan.h"
+#include "iraf_vo/pipeline/pipeline_params.h"
 
 using namespace iraf_vo;
 
@@ -347,4 +349,41 @@ TEST(CameraLoader, BadFilesNameFileAndKey) {
   EXPECT_NE(err.find("fy"), std::string::npos) << err;
   EXPECT_FALSE(makeCamera("double-sphere", 640, 480, {500, 500, 320, 240, 0, 0, 0, 0}, &err));
   EXPECT_TRUE(makeCamera("kannala-brandt", 640, 480, {500, 500, 320, 240, 0, 0, 0, 0}, &err));
+}
+
+// The callers ask a model its kind, not its name: a fisheye they have never heard of gets the fisheye rule.
+namespace {
+class UnknownFisheye final : public KannalaBrandt {
+ public:
+  UnknownFisheye() : KannalaBrandt(512, 512, 190.978, 190.978, 256, 256) {}
+  std::string modelName() const override { return "double-sphere"; }
+  std::string distortionModel() const override { return "double-sphere"; }
+};
+}  // namespace
+
+TEST(CameraKind, AModelUnknownToTheCallersIsRuledByItsKind) {
+  const UnknownFisheye unknown;
+  const KannalaBrandt kb(512, 512, 190.978, 190.978, 256, 256);
+  const PinholeRadtan pinhole(512, 512, 190.978, 190.978, 256, 256);
+  EXPECT_TRUE(unknown.isFisheye());
+  EXPECT_FALSE(pinhole.isFisheye());
+  PipelineParams p_unknown, p_kb, p_pinhole;
+  applyResolutionRule(unknown, &p_unknown);
+  applyResolutionRule(kb, &p_kb);
+  applyResolutionRule(pinhole, &p_pinhole);
+  EXPECT_EQ(p_unknown.tracker.min_triangulation_parallax_deg, 2.4);  // 1 deg * 458.654 / 191
+  EXPECT_EQ(p_kb.tracker.min_triangulation_parallax_deg, 2.4);
+  EXPECT_EQ(p_pinhole.tracker.min_triangulation_parallax_deg, 1.0);
+  // The nodelet's per-stage rule.
+  TrackerParams t;
+  applyTrackerResolutionRule(unknown, {}, &t);
+  EXPECT_EQ(t.min_triangulation_parallax_deg, 2.4);
+  // The sensor.yaml writer asks the model for its distortion_model.
+  const std::string path = tmpPath("unknown.yaml");
+  std::string err;
+  ASSERT_TRUE(saveCamera(unknown, path, &err)) << err;
+  std::ifstream f(path);
+  const std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("distortion_model: double-sphere"), std::string::npos) << text;
+  std::remove(path.c_str());
 }

@@ -102,7 +102,7 @@ TEST(FeaturesReal, BaselineCountAndSpread) {
 TEST(FeaturesReal, CullingAt075RemovesAFewLowContrastKeypoints) {
   // s_min 0.75 culls a few per cent of the keypoints on well-exposed EuRoC frames (the default 0.4 ~0.1 %),
   // the low-contrast / sparse ones: their inlier rate in tracking is <= 0.5x the kept ones'
-  // (iraf_vo_culling_table, README). Here: the share, and that the culled ones have lower contrast H_c.
+  // (iraf_vo_culling_table, docs/evaluation.md). Here: the share, and that the culled ones have lower contrast H_c.
   const cv::Mat img = loadEuroc("1403636604763555584.png");
   if (img.empty()) GTEST_SKIP() << "EuRoC frame not found under " << kEuroc;
   Enhancer enhancer;
@@ -156,7 +156,7 @@ TEST(FeaturesReal, DarkImageLowersThresholdAndKeepsMoreThanFixed) {
 // Repeatability under a synthetic gain change of the second image (x0.3, and x2.0 with clipping).
 // The hypothesis "enhancement + adaptive threshold >= baseline" does NOT hold on these pairs (the enhancer's
 // nonlinear gamma/unsharp mapping differs between the dark and the normal image; see
-// the README feature-stage section for the measured numbers), so the assertion is a regression guard: at least
+// the numbers this test prints), so the assertion is a regression guard: at least
 // kMinRatio of the baseline's homography inliers. The numbers are printed for the notes.
 constexpr double kMinRatio = 0.6;
 

@@ -176,7 +176,7 @@ TEST(PipelineParams, ConfigFileThenOverridesNameTheirErrors) {
   EXPECT_FALSE(loadPipelineConfig(tmpRoot() + "missing.yaml", &p, &err));
 }
 
-// Resolution rule (pipeline_params.h, README): the documented values for the four cameras of issue 11; fields
+// Resolution rule (pipeline_params.h, docs/evaluation.md): the documented values for four cameras; fields
 // given by a config file or a setting are kept.
 TEST(PipelineParams, ResolutionRuleValuesAndUserSettings) {
   struct Case {

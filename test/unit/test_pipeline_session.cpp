@@ -153,7 +153,7 @@ TEST_F(SessionFixture, TrajectoryIsRecordedAndSavedAtKeyframes) {
   EXPECT_FALSE(no_file.saveTrajectory(&err));
 }
 
-// Issue 13: the events a user sees on the console (kWarn messages with a key for per-kind throttling), the counters
+// The events a user sees on the console (kWarn messages with a key for per-kind throttling), the counters
 // behind /diagnostics, and the covariance of the anchored pose.
 TEST_F(SessionFixture, EventsAreReportedWithKeysAndTheAnchoredCovarianceIsRotated) {
   TrackerParams p;

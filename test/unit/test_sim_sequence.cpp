@@ -4,6 +4,7 @@
 
 #include <unistd.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -16,6 +17,7 @@
 #include "iraf_vo/camera/camera_loader.h"
 #include "iraf_vo/io/image_folder.h"
 #include "iraf_vo/io/trajectory.h"
+#include "iraf_vo/sim/light_profile.h"
 #include "iraf_vo/sim/photometric.h"
 #include "iraf_vo/sim/sequence.h"
 
@@ -181,6 +183,64 @@ TEST(SimDegrade, KeepsGroundTruthAndImageCount) {
   // Missing dataset: error naming the path.
   EXPECT_FALSE(iraf_vo::degradeAslSequence(in + "_nope", out + "2", ph, &rep, &err));
   EXPECT_NE(err.find("_nope"), std::string::npos) << err;
+}
+
+TEST(SimSequence, LightProfileWritesExposurePerFrameAndIsDeterministic) {
+  std::string err;
+  auto cam = iraf_vo::makeSimCamera("pinhole", 94, 60, &err);
+  ASSERT_TRUE(cam) << err;
+  iraf_vo::SceneParams sp;
+  sp.texels_per_m = 64;
+  sp.photo_dir.clear();
+  auto scene = std::make_shared<const iraf_vo::Scene>(iraf_vo::Scene::makeDefaultRoom(sp));
+  iraf_vo::SimParams params;
+  params.frames = 20;
+  iraf_vo::Renderer r(cam, scene, params);
+  iraf_vo::LightProfile light;
+  ASSERT_TRUE(iraf_vo::lightProfile("blackout", params.frames, params.rate_hz, params.exposure_time_s, false, 4, &light));
+  std::vector<cv::Mat> first, second;
+  const std::string out = freshDir("light_seq");
+  ASSERT_TRUE(iraf_vo::simulateSequence(r, iraf_vo::TrajectoryParams(), light, out,
+                                        [&](const iraf_vo::SimFrame& f) { first.push_back(f.image.clone()); }, nullptr,
+                                        &err))
+      << err;
+  ASSERT_TRUE(iraf_vo::simulateSequence(r, iraf_vo::TrajectoryParams(), light, "",
+                                        [&](const iraf_vo::SimFrame& f) { second.push_back(f.image.clone()); }, nullptr,
+                                        &err))
+      << err;
+  ASSERT_EQ(first.size(), 20u);
+  ASSERT_EQ(second.size(), 20u);
+  for (size_t i = 0; i < first.size(); ++i) EXPECT_EQ(cv::countNonZero(first[i] != second[i]), 0) << i;
+  // exposure.csv: one row per frame; the blackout (frames 8-13 of 20: 30 % cap) is dark, the exposure maxed.
+  const auto rows = dataLines(out + "/exposure.csv");
+  ASSERT_EQ(rows.size(), 20u);
+  EXPECT_EQ(rows[0].substr(0, 2), "0,");
+  EXPECT_LT(cv::mean(first[10])[0], 5.0);
+  EXPECT_GT(cv::mean(first[5])[0], 50.0);
+  double t5 = 0, t13 = 0;
+  ASSERT_EQ(std::sscanf(rows[5].c_str(), "%*d,%lf", &t5), 1);
+  ASSERT_EQ(std::sscanf(rows[13].c_str(), "%*d,%lf", &t13), 1);
+  EXPECT_GT(t13, 2.0 * t5) << rows[13];
+}
+
+TEST(SimDegrade, LightProfileOnRealImages) {
+  const std::string in = makeTinyAsl("degrade_light_in", 30);
+  const std::string out = freshDir("degrade_light_out");
+  iraf_vo::LightProfile light;
+  ASSERT_TRUE(iraf_vo::lightProfile("night", 31, 20.0, 0.01, true, 1, &light));
+  iraf_vo::DegradeReport rep;
+  std::string err;
+  ASSERT_TRUE(iraf_vo::degradeAslSequence(in, out, light, &rep, &err)) << err;
+  EXPECT_EQ(rep.written, 29);
+  EXPECT_EQ(dataLines(out + "/exposure.csv").size(), 29u);
+  // Night: 1.5 % of the light, long exposure and high gain bring the mean back, with more noise.
+  const cv::Mat a = cv::imread(in + "/mav0/cam0/data/1500.png", cv::IMREAD_GRAYSCALE);
+  const cv::Mat b = cv::imread(out + "/mav0/cam0/data/1500.png", cv::IMREAD_GRAYSCALE);
+  ASSERT_FALSE(b.empty());
+  EXPECT_GT(cv::mean(b)[0], 0.5 * cv::mean(a)[0]);
+  cv::Mat d;
+  cv::absdiff(a, b, d);
+  EXPECT_GT(cv::mean(d)[0], 5.0) << "high-gain noise on top of the image";
 }
 
 int run(const std::string& cmd) {

@@ -83,7 +83,7 @@ TEST(MapFusion, LinksMissedKeypointsAndMergesDuplicates) {
   ASSERT_EQ(s.map.trackedPoints(kf3, 1), 90);
 
   TrackerParams p;
-  p.fuse_neighbors = 6;  // off by default (README: measured, not adopted)
+  p.fuse_neighbors = 6;  // off by default (docs/decisions.md: measured, not adopted)
   Matcher matcher(s.cam, p);
   std::vector<FusionLink> links;
   const std::vector<FusionTarget> targets = s.map.fusionTargets(kf3, p.fuse_neighbors);

@@ -86,7 +86,7 @@ TEST(TrackingGeometry, TwoViewRejectsPureRotation) {
 namespace {
 
 // A street seen by a forward-driving KITTI-like camera (1241x376, f 719): points on facades 4-8 m to the side
-// and on the road, 4-40 m ahead; T2 = 1 m forward and a 0.5 deg yaw (issue 11: 10 Hz at 10 m/s). Most points are
+// and on the road, 4-40 m ahead; T2 = 1 m forward and a 0.5 deg yaw (10 Hz at 10 m/s). Most points are
 // far or near the focus of expansion: the median parallax is below 1 deg, the 50 best points have more.
 void streetViews(const CameraModel& cam, const Eigen::Isometry3d& T2_c_w, std::vector<Eigen::Vector3d>* b1,
                  std::vector<Eigen::Vector3d>* b2, std::mt19937* rng) {

@@ -194,7 +194,7 @@ TEST(TrackingRunCli, LoadsCodecsAndRosOnlyWhenNeeded) {
 
 // The default threaded run keeps the map's scale through a long, strong over-exposure: `iraf_vo_simulate --preset mixed
 // --seed 23` (4.86 m in a room; over-exposure x3 over frames 249-288) collapsed 3x with 20 keyframes kept (103.7 mm =
-// 2.1 % of the path, TRACKING throughout; README "Keyframes kept in the map"); issue 11 asks <= 1 % of the path and
+// 2.1 % of the path, TRACKING throughout; docs/decisions.md "Keyframes kept in the map"); the goal is <= 1 % of the path and
 // >= 95 % of the frames tracked with the default parameters.
 TEST(TrackingRunCli, DefaultRunKeepsScaleThroughOverExposure) {
   if (!exists(kBin)) GTEST_SKIP() << kBin << " not built";

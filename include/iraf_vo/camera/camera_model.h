@@ -1,6 +1,8 @@
 // Camera models shared by every stage (simulator, tracker, BA, evaluation).
 // ROS-free. Implementations: PinholeRadtan (EuRoC cam0) and KannalaBrandt (TUM-VI cam0, equidistant).
 // Construction from files: iraf_vo/camera/camera_loader.h (loadCamera, makeCamera).
+// Callers ask a model what they need (kind(), focal(), distortionModel()), never compare modelName(): a new model
+// is a new class here plus its name in the loader.
 #pragma once
 
 #include <Eigen/Core>
@@ -11,12 +13,21 @@
 
 namespace iraf_vo {
 
+/// The projection family: what the rules that differ between lenses branch on (the resolution rule's
+/// triangulation parallax follows the focal length of a fisheye).
+enum class CameraKind { kPinhole, kFisheye };
+
 class CameraModel {
  public:
   virtual ~CameraModel() = default;
 
   /// "pinhole-radtan" or "kannala-brandt" (one name per model across code, yaml and docs).
   virtual std::string modelName() const = 0;
+  /// Pinhole (perspective, narrow field of view) or fisheye; every model states its own.
+  virtual CameraKind kind() const = 0;
+  bool isFisheye() const { return kind() == CameraKind::kFisheye; }
+  /// The distortion_model name of the EuRoC / Kalibr sensor.yaml layout ("radial-tangential", "equidistant").
+  virtual std::string distortionModel() const = 0;
   int width() const { return width_; }
   int height() const { return height_; }
 

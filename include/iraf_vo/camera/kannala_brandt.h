@@ -18,6 +18,8 @@ class KannalaBrandt : public CameraModel {
                 double k2 = 0.0, double k3 = 0.0, double k4 = 0.0);
 
   std::string modelName() const override { return "kannala-brandt"; }
+  CameraKind kind() const override { return CameraKind::kFisheye; }
+  std::string distortionModel() const override { return "equidistant"; }
   bool project(const Eigen::Vector3d& p_c, Eigen::Vector2d* uv,
                Eigen::Matrix<double, 2, 3>* J = nullptr) const override;
   /// Newton on theta for theta_d(theta) = |m|, then bearing = (sin(theta) m/|m|, cos(theta)).

@@ -17,6 +17,8 @@ class PinholeRadtan : public CameraModel {
                 double k2 = 0.0, double p1 = 0.0, double p2 = 0.0, double k3 = 0.0);
 
   std::string modelName() const override { return "pinhole-radtan"; }
+  CameraKind kind() const override { return CameraKind::kPinhole; }
+  std::string distortionModel() const override { return "radial-tangential"; }
   bool project(const Eigen::Vector3d& p_c, Eigen::Vector2d* uv,
                Eigen::Matrix<double, 2, 3>* J = nullptr) const override;
   /// Gauss-Newton on the normalized coordinates (x, y) starting from the distorted ones.

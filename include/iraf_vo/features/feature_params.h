@@ -26,7 +26,7 @@ struct FeatureParams {
   // Chosen on EuRoC MH_01 (F_h ~ 7.6 bits, F_g ~ 63), its x0.2 darkened copy (F_h ~ 5.5, F_g ~ 12.5) and
   // the DICM/LIME low-light stills: F_t^g ~ 20 (= ORB-SLAM's iniThFAST) on well-exposed EuRoC frames,
   // ~ 9.3 on the darkened ones, 6..23 on the stills. A higher ceiling (alpha 2, beta 0.3 -> ~34) lost
-  // 5-25 % of the matched inliers between nearby EuRoC frames (README, feature stage).
+  // 5-25 % of the matched inliers between nearby EuRoC frames (docs/decisions.md).
   double alpha = 1.35;
   double beta = 0.15;
   // eq. (19): F_t^l = delta * |I_m - t_o|. 1.0: on EuRoC ~55 % of the level-0 cells reach the F_t^g
@@ -44,7 +44,7 @@ struct FeatureParams {
   // cells, filtered by their cell's threshold (computed bit for bit by one detectFast9 pass per row). Same corners except non-max suppression at run borders and the order
   // of equal-score candidates (97-98 % identical keypoints); identical with adaptive_threshold off. Not the
   // default yet: on the sim dark preset its ATE is ~2x the reference path's over 8 n_features perturbations
-  // (README, feature stage), unexplained so far.
+  // (docs/decisions.md), unexplained so far.
   bool fast_path = false;
 
   // ---- feature culling (eqs. 21-23) ----
@@ -58,7 +58,7 @@ struct FeatureParams {
   double w1 = 0.5;                 // eq. (23): density weight
   double w2 = 0.5;                 // eq. (23): lighting weight (w1 + w2 = 1 in the paper)
   // Keypoints with S < s_min are culled. 0.4 culls 0.2-1.2 % of the keypoints; 0.75 culls 5-12 %, whose tracking
-  // inlier rate is 0.39-0.49x the kept ones' (iraf_vo_culling_table, README feature stage), but made the Sim(3)
+  // inlier rate is 0.39-0.49x the kept ones' (iraf_vo_culling_table, docs/decisions.md), but made the Sim(3)
   // ATE worse on the sim dark / mixed presets, so it is not the default.
   double s_min = 0.4;
   int min_features = 300;          // never cull below this many keypoints (the highest-S ones are kept)

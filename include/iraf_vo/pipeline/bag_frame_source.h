@@ -6,7 +6,7 @@
 #include <memory>
 #include <string>
 
-#include "iraf_vo/pipeline/offline_pipeline.h"
+#include "iraf_vo/pipeline/frame_source.h"
 
 namespace iraf_vo {
 

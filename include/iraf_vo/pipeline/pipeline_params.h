@@ -5,6 +5,7 @@
 #include <set>
 #include <string>
 
+#include "iraf_vo/camera/camera_model.h"
 #include "iraf_vo/enhance/enhancer.h"
 #include "iraf_vo/features/feature_params.h"
 #include "iraf_vo/tracking/tracker_params.h"
@@ -19,7 +20,7 @@ struct PipelineParams {
   std::set<std::string> user_set;
 };
 
-/// Resolution rule (issue 11). The defaults of the size-dependent fields are ORB-SLAM's for EuRoC cam0 (752x480,
+/// Resolution rule. The defaults of the size-dependent fields are ORB-SLAM's for EuRoC cam0 (752x480,
 /// focal 458.654 px); for another camera they are derived from the image size and the focal length:
 ///   s = sqrt(width * height / (752 * 480))                       (linear image-size ratio)
 ///   features.n_features  = clamp(1000 s, 500, 2000), rounded to 50   (keypoint density ~ per image side)
@@ -32,7 +33,7 @@ struct PipelineParams {
 ///                          (prediction errors are angles: pixels scale with the focal length), at least 5 / 15 / 2
 ///   tracker.init_min_matches / init_min_triangulated / init_min_parallax_points = 100 / 60 / 50 * n_features / 1000
 ///   tracker.min_triangulation_parallax_deg = fisheye: 1 deg * 458.654 / focal, to 0.01 deg (a new point's depth
-///                          error is its bearing noise, pixels / focal, over the parallax); pinhole: 1 deg (README)
+///                          error is its bearing noise, pixels / focal, over the parallax); pinhole: 1 deg (docs/decisions.md)
 /// Pixel-noise thresholds (init_threshold_px, pnp_threshold_px) and the initialization's parallax test do not depend
 /// on the camera (scaling the latter too made the fisheye initialize later, 97.3 % tracked, and was not more accurate).
 /// n_features, cell_size, n_levels, search radii, init matches / triangulated / parallax points, triangulation parallax:
@@ -48,7 +49,7 @@ struct ResolutionDefaults {
   int init_min_matches = 100, init_min_triangulated = 60, init_min_parallax_points = 50;
   double min_triangulation_parallax_deg = 1.0;
 };
-/// fisheye: the camera is a fisheye (Kannala-Brandt), whose triangulation parallax follows its focal length.
+/// fisheye: the camera is a fisheye (CameraModel::isFisheye), whose triangulation parallax follows its focal length.
 ResolutionDefaults resolutionDefaults(int width, int height, double focal, double scale_factor = 1.2,
                                       bool fisheye = false);
 
@@ -59,6 +60,10 @@ std::string applyResolutionRule(int width, int height, double focal, bool fishey
 std::string applyFeatureResolutionRule(int width, int height, const std::set<std::string>& user_set, FeatureParams* p);
 std::string applyTrackerResolutionRule(int width, int height, double focal, bool fisheye,
                                        const std::set<std::string>& user_set, TrackerParams* p);
+/// The same rules for a camera: its size, focal length and kind (what the tools and the tracker nodelet use).
+std::string applyResolutionRule(const CameraModel& camera, PipelineParams* p);
+std::string applyTrackerResolutionRule(const CameraModel& camera, const std::set<std::string>& user_set,
+                                       TrackerParams* p);
 
 /// Reads the optional sections of a YAML file (other top-level keys are ignored). false + *error naming the file,
 /// the section and the key; *p is unchanged for a section that fails. The keys read go to p->user_set.

@@ -62,6 +62,11 @@ std::string photometricPresetNames();
 /// Global gain of the frame from the gain-type events (ramp, over-exposure, switch, flicker).
 double globalGain(const PhotometricParams& params, int frame);
 
+/// The light part of applyPhotometric: `in` (CV_8UC1 or CV_32FC1) times the spatial and global gains of
+/// the events active at `frame` (vignetting, spotlight, shadow, ramps, switches, flicker) -> CV_32FC1,
+/// unclipped. Throws std::invalid_argument for an empty image or another type.
+void applyIllumination(const cv::Mat& in, int frame, const PhotometricParams& params, cv::Mat* out);
+
 /// Applies every event active at `frame` to `in` (CV_8UC1 or CV_32FC1 radiance in 8-bit units) and
 /// writes the CV_8UC1 result. Throws std::invalid_argument for an empty image or another type.
 void applyPhotometric(const cv::Mat& in, int frame, const PhotometricParams& params, cv::Mat* out);

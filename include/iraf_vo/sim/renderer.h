@@ -48,6 +48,10 @@ class Renderer {
 
   /// Frame i of the trajectory (motion blur: average over the exposure window around its timestamp).
   void renderFrame(const TrajectoryParams& traj, int frame, cv::Mat* radiance, cv::Mat* depth = nullptr) const;
+  /// Frame i with the shutter open for `exposure_s` (the camera's exposure of that frame): the number of
+  /// sub-frame renders scales with it (motion_blur_samples at exposure_time_s, at most 16).
+  void renderFrame(const TrajectoryParams& traj, int frame, double exposure_s, cv::Mat* radiance,
+                   cv::Mat* depth = nullptr) const;
 
   /// Casts the ray of pixel (u, v) (any sub-pixel position) from pose T_W_C. Returns false when the
   /// camera cannot unproject it or nothing is hit. p_W: hit point in the world; depth: z in the camera frame.
@@ -55,6 +59,7 @@ class Renderer {
                  double* depth = nullptr) const;
 
   const CameraModel& camera() const { return *camera_; }
+  const CameraModelPtr& cameraPtr() const { return camera_; }
   const Scene& scene() const { return *scene_; }
   const SimParams& params() const { return params_; }
   double frameTime(int frame) const { return frame / params_.rate_hz; }
@@ -65,6 +70,9 @@ class Renderer {
   /// structure-of-arrays passes the compiler vectorizes, then the texture fetches.
   void renderSpan(const Eigen::Matrix3f& R, const Eigen::Vector3f& o, int r, int c0, int n, const int* cand, int nc,
                   float* out, float* dep) const;
+  /// Frame i: average of n renders over the exposure window (n <= 1: the frame's pose only).
+  void renderBlurred(const TrajectoryParams& traj, int frame, double exposure_s, int n, cv::Mat* radiance,
+                     cv::Mat* depth) const;
   /// Renders tile rows [tr0, tr1).
   void renderTileRows(const Eigen::Isometry3d& T_W_C, int tr0, int tr1, cv::Mat* radiance, cv::Mat* depth) const;
 

@@ -12,6 +12,8 @@
 #include <vector>
 
 #include "iraf_vo/camera/camera_model.h"
+#include "iraf_vo/sim/image_formation.h"
+#include "iraf_vo/sim/light_profile.h"
 #include "iraf_vo/sim/photometric.h"
 #include "iraf_vo/sim/renderer.h"
 
@@ -39,7 +41,8 @@ struct SimFrame {
   int64_t stamp_ns = 0;
   Eigen::Isometry3d T_W_C = Eigen::Isometry3d::Identity();
   cv::Mat image;  // CV_8UC1
-  cv::Mat depth;  // CV_32FC1 z-depth (m) when SimParams::write_depth, else empty
+  cv::Mat depth;  // CV_32FC1 z-depth (m) when SimParams::write_depth (or the light profile needs it), else empty
+  FrameLight light;  // exposure, gain, scene light of the frame (light-profile simulations)
 };
 
 struct SimulateReport {
@@ -57,6 +60,14 @@ bool simulateSequence(const Renderer& renderer, const TrajectoryParams& traj, co
                       const std::string& out_dir, const std::function<void(const SimFrame&)>& on_frame,
                       SimulateReport* report, std::string* error);
 
+/// The same with the camera model: each frame is rendered with the shutter open for the exposure the
+/// auto-exposure chose (ImageFormation settles it on frame 0 first), lit and exposed by `light`; also
+/// writes OUT/exposure.csv (writeExposureCsv). Glare lamps: where the optical axis meets the scene at
+/// evenly spread times of the path.
+bool simulateSequence(const Renderer& renderer, const TrajectoryParams& traj, const LightProfile& light,
+                      const std::string& out_dir, const std::function<void(const SimFrame&)>& on_frame,
+                      SimulateReport* report, std::string* error);
+
 struct DegradeReport {
   int images = 0;     // rows of data.csv
   int written = 0;
@@ -69,6 +80,13 @@ struct DegradeReport {
 /// groundtruth/ folder, mav0/state_groundtruth_estimate0/, the other mav0 sensors' csv/yaml files,
 /// and top-level files. Returns false (and sets *error) when in_dir has no mav0/cam0/data.csv.
 bool degradeAslSequence(const std::string& in_dir, const std::string& out_dir, const PhotometricParams& photometric,
+                        DegradeReport* report, std::string* error);
+
+/// The same with the camera model: each real 8-bit image is taken as linear radiance in DN at the
+/// profile's reference exposure, lit, blurred along the image motion (phase correlation with the previous
+/// image) by the exposure time beyond the reference, and exposed; also writes OUT/exposure.csv. The
+/// flashlight's angles come from mav0/cam0/sensor.yaml when it loads (no depth: no distance fall-off).
+bool degradeAslSequence(const std::string& in_dir, const std::string& out_dir, const LightProfile& light,
                         DegradeReport* report, std::string* error);
 
 /// Rows of an ASL data.csv: (timestamp ns, file name). Returns false when the file cannot be read.

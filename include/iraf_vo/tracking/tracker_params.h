@@ -68,13 +68,13 @@ struct TrackerParams {
   double min_found_ratio = 0.25;
   bool predict_scale = false;           // projection searches expect a point at the octave its image scale predicts
                                         // (ORB-SLAM's PredictScale) and skip it beyond 60 deg off its reference view;
-                                        // false: at the octave it was created at, from any side (see README)
-  int fuse_neighbors = 0;               // map-point fusion with this many most covisible keyframes (0 = off; see README)
+                                        // false: at the octave it was created at, from any side (see docs/decisions.md)
+  int fuse_neighbors = 0;               // map-point fusion with this many most covisible keyframes (0 = off; see docs/decisions.md)
   double fuse_radius_px = 3.0;          // fusion search window at octave 0 (times scale_factor^octave)
   // ---- sliding-window BA ----
   int ba_window_size = 10;
   int max_map_keyframes = 25;           // keyframes kept (older are dropped); the local BA's fixed anchors are the
-                                        // kept ones outside its window that see window points (see README)
+                                        // kept ones outside its window that see window points (see docs/decisions.md)
   int ba_max_num_iterations = 10;
   double ba_max_solver_time_in_seconds = 0.1;  // CPU time of the mapping thread (not wall clock: under load
                                                // a wall-clock budget left BA at 0-1 iterations)

@@ -1,4 +1,4 @@
-// Translation-direction check of the two-view relative pose (issue 11: never start tracking on a wrong motion).
+// Translation-direction check of the two-view relative pose (never start tracking on a wrong motion).
 // At ~1 deg of parallax with noisy keypoints a sideways translation and a rotation explain nearly the same image
 // motion (the bas-relief ambiguity): the epipolar cost is a long curved valley, sometimes with a second minimum,
 // and RANSAC's motion can be 30-100 deg off in translation. A covariance (the local curvature) underestimates

@@ -1,0 +1,47 @@
+// Where the offline pipeline's images come from: the FrameSource interface, and its implementation for an ASL
+// folder. The rosbag implementation is a plugin of the ROS library (bag_frame_source.h). ROS-free.
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <string>
+
+#include "iraf_vo/io/image_folder.h"
+
+namespace iraf_vo {
+
+struct SourceImage {
+  double stamp = 0.0;  // seconds
+  cv::Mat gray;        // CV_8UC1
+  std::string error;   // not empty: the image is unreadable (the frame is skipped)
+};
+
+/// A sequence of images read in order.
+class FrameSource {
+ public:
+  virtual ~FrameSource() = default;
+  virtual size_t size() const = 0;
+  /// Reads frame `index`; indices increase by one per call (frames before the first index are skipped).
+  /// false when the source ended.
+  virtual bool read(long index, SourceImage* out) = 0;
+  /// Names frame `index` in messages (its file, or the bag and topic).
+  virtual std::string describe(long index) const = 0;
+  /// What the user must know before the run ("" if nothing), e.g. a truncated bag read up to its intact part.
+  virtual std::string notice() const { return ""; }
+  /// "" when no image was skipped so far, else how many and the first reason.
+  virtual std::string skippedSummary() const { return ""; }
+};
+
+/// The images of an ASL folder (DIR/mav0/cam0).
+class AslFrameSource : public FrameSource {
+ public:
+  explicit AslFrameSource(const AslImageReader* reader) : reader_(reader) {}
+  size_t size() const override { return reader_->size(); }
+  bool read(long index, SourceImage* out) override;
+  std::string describe(long index) const override;
+  std::string skippedSummary() const override { return reader_->skippedSummary(); }
+
+ private:
+  const AslImageReader* reader_;
+};
+
+}  // namespace iraf_vo
