@@ -2,7 +2,7 @@
 // (iraf_vo_simulate, 120 frames of the room at 20 Hz through the launch file's own camera yaml):
 //   1. euroc.launch bag:=... image:=/cam0/image_raw/compressed base_frame:=base_link base_from_camera_file:=true
 //      trajectory_file:=... record:=...: odometry of base_link, base_link -> cam0 on /tf_static, tracking_events
-//      (NEW_MAP epoch 1), and at shutdown the summary line, "trajectory written to", the recorded bag.
+//      (NEW_MAP epoch 1), the trajectory file and the recorded bag after shutdown.
 //   2. tumvi.launch bag:=... (fisheye): odometry and epoch 1.
 //   3. live.launch camera:=/camera transport:=raw camera_file:=... fed by `rosbag play` remapped to /camera.
 #include <gtest/gtest.h>
@@ -135,9 +135,6 @@ TEST(LaunchFiles, EurocWithACompressedBag) {
       << "no static TF base_link -> cam0 from base_from_camera_file";
   ros::WallDuration(2.0).sleep();
   launch.stop();
-  const std::string out = readFile(log);
-  EXPECT_NE(out.find("tracker: summary: "), std::string::npos) << out;
-  EXPECT_NE(out.find("trajectory written to " + traj), std::string::npos) << out;
   iraf_vo::Trajectory t;
   std::string err;
   EXPECT_TRUE(iraf_vo::readTumTrajectory(traj, &t, &err)) << err;
