@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 #include <stdexcept>
 
 #include <opencv2/core/hal/intrin.hpp>
@@ -16,40 +15,9 @@ namespace iraf_vo {
 namespace {
 constexpr EnumName<BrightnessClass> kBrightnessNames[] = {
     {BrightnessClass::kDim, "dim"}, {BrightnessClass::kNormal, "normal"}, {BrightnessClass::kBright, "bright"}};
-constexpr EnumName<EnhanceMethod> kMethodNames[] = {
-    {EnhanceMethod::kNone, "none"}, {EnhanceMethod::kIraf, "iraf"}, {EnhanceMethod::kHe, "he"},
-    {EnhanceMethod::kClahe, "clahe"}};
 }  // namespace
 
 const char* toString(BrightnessClass c) { return nameOf(kBrightnessNames, c, "normal"); }
-
-const char* toString(EnhanceMethod m) { return nameOf(kMethodNames, m, "iraf"); }
-
-bool parseEnhanceMethod(const std::string& s, EnhanceMethod* m) { return parseName(kMethodNames, s, m); }
-
-std::string validate(const EnhanceParams& cfg) {
-  // Upper bounds (far beyond cfg/Enhance.cfg's ranges) keep OpenCV from huge allocations / float overflow
-  // (found by test/fuzz/fuzz_frontend: clahe_tiles = 2^30 -> allocation-size-too-big).
-  std::ostringstream err;
-  if (cfg.gaussian_kernel_size < 1 || cfg.gaussian_kernel_size > 99 || cfg.gaussian_kernel_size % 2 == 0)
-    err << "gaussian_kernel_size must be odd and in [1, 99] (got " << cfg.gaussian_kernel_size << "); ";
-  if (!(cfg.gaussian_sigma > 0.0 && cfg.gaussian_sigma <= 100.0))
-    err << "gaussian_sigma must be in (0, 100] (got " << cfg.gaussian_sigma << "); ";
-  if (!(cfg.mu_expected > 0.0 && cfg.mu_expected <= 255.0))
-    err << "mu_expected must be in (0, 255] (got " << cfg.mu_expected << "); ";
-  if (!(cfg.brightness_threshold >= 0.0 && std::isfinite(cfg.brightness_threshold)))
-    err << "brightness_threshold must be finite and >= 0 (got " << cfg.brightness_threshold << "); ";
-  for (double l : {cfg.dim_lambda, cfg.bright_lambda})
-    if (!(l > 0.0 && std::isfinite(l))) err << "lambda must be finite and > 0 (got " << l << "); ";
-  for (double tau : {cfg.dim_tau, cfg.bright_tau})
-    if (!(tau > 0.0 && tau <= 1.0)) err << "tau must be in (0, 1] (got " << tau << "); ";
-  if (!(std::abs(cfg.epsilon) <= 1000.0) || !(std::abs(cfg.eta) <= 1000.0))
-    err << "epsilon and eta must be finite, |value| <= 1000 (got " << cfg.epsilon << ", " << cfg.eta << "); ";
-  if (!(cfg.clahe_clip_limit > 0.0 && std::isfinite(cfg.clahe_clip_limit)))
-    err << "clahe_clip_limit must be finite and > 0 (got " << cfg.clahe_clip_limit << "); ";
-  if (cfg.clahe_tiles < 1 || cfg.clahe_tiles > 256) err << "clahe_tiles must be in [1, 256] (got " << cfg.clahe_tiles << "); ";
-  return err.str();
-}
 
 std::array<double, 256> histogram256(const cv::Mat& gray) {
   CV_Assert(gray.type() == CV_8UC1);

@@ -1,38 +1,10 @@
 #include "iraf_vo/features/feature_params.h"
 
-#include <cmath>
-#include <sstream>
-
 namespace iraf_vo {
-
-std::string validate(const FeatureParams& p) {
-  std::ostringstream e;
-  // Upper bound: extract() reserves 4 * n_features candidates (int overflow / std::length_error for huge values,
-  // found by test_bad_params FeatureExtractorExtremeValidParams); 100000 is 10x cfg/Features.cfg's maximum.
-  if (p.n_features < 1 || p.n_features > 100000) e << "n_features must be in [1, 100000] (got " << p.n_features << "); ";
-  if (!(p.scale_factor > 1.0 && p.scale_factor <= 4.0)) e << "scale_factor must be in (1, 4] (got " << p.scale_factor << "); ";
-  if (p.n_levels < 1 || p.n_levels > 32) e << "n_levels must be in [1, 32] (got " << p.n_levels << "); ";
-  if (p.cell_size < 8) e << "cell_size must be >= 8 (got " << p.cell_size << "); ";
-  if (p.ini_th_fast < 1 || p.ini_th_fast > 254) e << "ini_th_fast must be in [1, 254] (got " << p.ini_th_fast << "); ";
-  if (p.min_th_fast < 1 || p.min_th_fast > 254) e << "min_th_fast must be in [1, 254] (got " << p.min_th_fast << "); ";
-  if (!std::isfinite(p.alpha) || p.alpha < 0) e << "alpha must be finite and >= 0 (got " << p.alpha << "); ";
-  if (!std::isfinite(p.beta) || p.beta < 0) e << "beta must be finite and >= 0 (got " << p.beta << "); ";
-  if (!std::isfinite(p.delta) || p.delta < 0) e << "delta must be finite and >= 0 (got " << p.delta << "); ";
-  if (!(p.ft_min >= 1.0 && p.ft_min <= 254.0)) e << "ft_min must be in [1, 254] (got " << p.ft_min << "); ";
-  if (p.center_window < 1 || p.center_window % 2 == 0) e << "center_window must be odd and >= 1 (got " << p.center_window << "); ";
-  if (p.min_node_size < 1) e << "min_node_size must be >= 1 (got " << p.min_node_size << "); ";
-  if (p.contrast_patch_size < 3 || p.contrast_patch_size % 2 == 0)
-    e << "contrast_patch_size must be odd and >= 3 (got " << p.contrast_patch_size << "); ";
-  for (auto kv : {std::make_pair("rho", p.rho), std::make_pair("h_th", p.h_th), std::make_pair("k", p.k),
-                  std::make_pair("d_opt", p.d_opt), std::make_pair("w1", p.w1), std::make_pair("w2", p.w2),
-                  std::make_pair("s_min", p.s_min)})
-    if (!std::isfinite(kv.second)) e << kv.first << " must be finite (got " << kv.second << "); ";
-  if (p.min_features < 0) e << "min_features must be >= 0 (got " << p.min_features << "); ";
-  return e.str();
-}
 
 const ParamTable<FeatureParams>& featureParamTable() {
   using P = FeatureParams;
+  // The ranges also bound what sizes an allocation (n_features: 4 candidates each are reserved) or a loop.
   static const ParamTable<P> table(
       "features",
       {
@@ -40,7 +12,7 @@ const ParamTable<FeatureParams>& featureParamTable() {
                    "Keypoints per image over all levels (ORB-SLAM: 1000 for 752x480)"),
           doubleParam("scale_factor", &P::scale_factor, 1.05, 2.0, "Pyramid scale between levels (ORB-SLAM: 1.2)"),
           intParam("n_levels", &P::n_levels, 1, 16, "Pyramid levels (ORB-SLAM: 8)"),
-          intParam("cell_size", &P::cell_size, 8, 200,
+          intParam("cell_size", &P::cell_size, 8, 512,
                    "FAST cell side [px of the level] = the eq. 16-19 subregion (ORB-SLAM: 35)"),
           boolParam("adaptive_threshold", &P::adaptive_threshold,
                     "On: eqs. 13-20 per cell. Off: ORB-SLAM fixed ini_th_fast / min_th_fast"),
@@ -78,19 +50,10 @@ const ParamTable<FeatureParams>& featureParamTable() {
                    "Never cull below this many keypoints (the highest-S ones are kept)"),
           boolParam("eq23_literal", &P::eq23_literal,
                     "eq. 23 as printed, w2 (1 - C_light) (rewards low contrast); off = stated intent w2 C_light"),
-      },
-      validate);
+      });
   return table;
 }
 
-bool setFeatureParam(FeatureParams* p, const std::string& key, const std::string& value, std::string* err) {
-  return featureParamTable().set(p, key, value, err);
-}
-
-std::vector<std::string> featureParamNames() { return featureParamTable().names(); }
-
-bool loadFeatureParams(const YAML::Node& node, FeatureParams* p, std::string* err) {
-  return featureParamTable().load(node, p, err);
-}
+std::string validate(const FeatureParams& p) { return featureParamTable().validate(p); }
 
 }  // namespace iraf_vo

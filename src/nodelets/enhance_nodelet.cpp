@@ -11,7 +11,7 @@
 
 #include "iraf_vo/EnhanceConfig.h"
 #include "iraf_vo/EnhanceStats.h"
-#include "iraf_vo/enhance/enhance_params_io.h"
+#include "iraf_vo/enhance/enhancer.h"
 #include "iraf_vo/pipeline/input_watchdog.h"
 #include "iraf_vo/ros/camera_source.h"
 #include "iraf_vo/ros/image_conversion.h"

@@ -23,7 +23,7 @@
 #include "iraf_vo/ros/camera_source.h"
 #include "iraf_vo/ros/feature_conversion.h"
 #include "iraf_vo/ros/tracking_conversion.h"
-#include "iraf_vo/tracking/tracker_params_io.h"
+#include "iraf_vo/tracking/tracker_params.h"
 #include "stage_nodelet.h"
 
 namespace iraf_vo {

@@ -6,59 +6,87 @@
 #include <cmath>
 #include <cstdio>
 
-#include "iraf_vo/enhance/enhance_params_io.h"
-#include "iraf_vo/tracking/tracker_params_io.h"
-
 namespace iraf_vo {
+
+namespace {
+
+bool fail(std::string* error, const std::string& m) {
+  if (error) *error = m;
+  return false;
+}
+
+}  // namespace
+
+bool loadPipelineSection(const std::string& section, const YAML::Node& node, PipelineParams* p, std::string* error) {
+  bool known = false, ok = true;
+  forEachStage(*p, [&](const auto& table, auto& stage) {
+    if (table.section() != section) return;
+    known = true;
+    ok = table.load(node, &stage, error);
+  });
+  if (!known) return fail(error, "unknown section '" + section + "' (" + pipelineSectionList() + ")");
+  if (ok && node.IsMap())
+    for (const auto& kv : node) p->user_set.insert(section + "." + kv.first.as<std::string>(""));
+  return ok;
+}
 
 bool loadPipelineConfig(const std::string& path, PipelineParams* p, std::string* error) {
   YAML::Node root;
   try {
     root = YAML::LoadFile(path);
   } catch (const std::exception& e) {
-    *error = path + ": " + e.what();
-    return false;
+    return fail(error, path + ": " + e.what());
   }
-  std::string err;
-  bool ok = true;
-  if (root["enhance"] && !enhanceParamTable().load(root["enhance"], &p->enhance, &err))
-    ok = false;
-  else if (root["features"] && !featureParamTable().load(root["features"], &p->features, &err))
-    ok = false;
-  else if (root["tracker"] && !trackerParamTable().load(root["tracker"], &p->tracker, &err))
-    ok = false;
-  if (!ok) *error = path + ": " + err;
-  for (const char* section : {"enhance", "features", "tracker"})
-    if (ok && root[section] && root[section].IsMap())
-      for (const auto& kv : root[section]) p->user_set.insert(std::string(section) + "." + kv.first.as<std::string>());
-  return ok;
+  if (!root.IsMap())
+    return root.IsNull() || fail(error, path + ": expected a YAML map (sections " + pipelineSectionList() + ")");
+  for (const std::string& section : pipelineSections()) {
+    std::string err;
+    if (root[section] && !loadPipelineSection(section, root[section], p, &err)) return fail(error, path + ": " + err);
+  }
+  return true;
 }
 
 bool applyPipelineSetting(const std::string& setting, PipelineParams* p, std::string* error) {
   const size_t dot = setting.find('.'), eq = setting.find('=');
-  if (dot == std::string::npos || eq == std::string::npos || eq < dot) {
-    *error = "expected section.key=value";
-    return false;
-  }
-  const std::string section = setting.substr(0, dot), key = setting.substr(dot + 1, eq - dot - 1);
-  const std::string value = setting.substr(eq + 1);
-  bool ok = false;
-  if (section == enhanceParamTable().section())
-    ok = enhanceParamTable().set(&p->enhance, key, value, error);
-  else if (section == featureParamTable().section())
-    ok = featureParamTable().set(&p->features, key, value, error);
-  else if (section == trackerParamTable().section())
-    ok = trackerParamTable().set(&p->tracker, key, value, error);
-  else
-    *error = "unknown section '" + section + "' (tracker, enhance, features)";
+  if (dot == std::string::npos || eq == std::string::npos || eq < dot)
+    return fail(error, "expected section.key=value");
+  return setPipelineParam(setting.substr(0, dot), setting.substr(dot + 1, eq - dot - 1), setting.substr(eq + 1), p,
+                          error);
+}
+
+bool setPipelineParam(const std::string& section, const std::string& key, const std::string& value, PipelineParams* p,
+                      std::string* error) {
+  bool known = false, ok = false;
+  forEachStage(*p, [&](const auto& table, auto& stage) {
+    if (table.section() != section) return;
+    known = true;
+    ok = table.set(&stage, key, value, error);
+  });
+  if (!known) return fail(error, "unknown section '" + section + "' (" + pipelineSectionList() + ")");
   if (ok) p->user_set.insert(section + "." + key);
   return ok;
 }
 
+std::vector<std::string> pipelineSections() {
+  std::vector<std::string> s;
+  const PipelineParams defaults;
+  forEachStage(defaults, [&s](const auto& table, const auto&) { s.push_back(table.section()); });
+  return s;
+}
+
+std::string pipelineSectionList() {
+  std::string out;
+  for (const std::string& s : pipelineSections()) out += (out.empty() ? "" : ", ") + s;
+  return out;
+}
+
 std::string validate(const PipelineParams& p) {
-  for (const std::string& e : {validate(p.enhance), validate(p.features), validate(p.tracker)})
-    if (!e.empty()) return e;
-  return "";
+  std::string out;
+  forEachStage(p, [&out](const auto& table, const auto& stage) {
+    const std::string e = table.validate(stage);
+    if (out.empty() && !e.empty()) out = table.section() + ": " + e;
+  });
+  return out;
 }
 
 ResolutionDefaults resolutionDefaults(int width, int height, double focal, double scale_factor, bool fisheye) {

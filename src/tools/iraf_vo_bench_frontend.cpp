@@ -1,6 +1,6 @@
 // iraf_vo_bench_frontend: timing of the front-end (enhancement + feature stage) on an ASL/EuRoC folder.
 //
-//   iraf_vo_bench_frontend --dataset DIR [--frames N] [--mu-expected MU] [--params FILE.yaml]
+//   iraf_vo_bench_frontend --dataset DIR [--frames N] [--mu-expected MU] [--config FILE.yaml] [--set ...]
 //
 // DIR is an ASL folder (DIR/mav0/cam0/data.csv + data/*.png). Single thread (cv::setNumThreads(0)).
 // Images are loaded first; then, frame by frame (interleaved so machine load hits all variants alike):
@@ -10,10 +10,8 @@
 //   all-on, other path  the same with the other detection path (fast_path flipped)
 // Prints the median ms per stage (enhance, threshold, pyramid, FAST, distribution + rest, describe, cull) and the
 // ratios all-on / orb, all-on / all-off and reference / fast path.
-// --params: FeatureParams for all-on from the file's `features:` section (or its root map); all-off uses the
-// same params with adaptive_threshold and culling off.
-#include <yaml-cpp/yaml.h>
-
+// --config / --set: EnhanceParams and FeatureParams for all-on; all-off uses the same feature params with
+// adaptive_threshold and culling off.
 #include <opencv2/core/utility.hpp>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -23,6 +21,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -30,6 +29,7 @@
 #include "iraf_vo/common/median.h"
 #include "iraf_vo/enhance/enhancer.h"
 #include "iraf_vo/features/feature_extractor.h"
+#include "iraf_vo/pipeline/command_line.h"
 
 using namespace iraf_vo;
 
@@ -71,49 +71,25 @@ bool readAsl(const std::string& dir, int max_frames, std::vector<cv::Mat>* image
   return true;
 }
 
-void usage() {
-  std::cerr << "usage: iraf_vo_bench_frontend --dataset DIR [--frames N] [--mu-expected MU] [--params FILE.yaml]\n"
-               "  DIR: ASL folder (DIR/mav0/cam0/data.csv); N: frames to time (default 200)\n";
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
   std::string dataset;
   int frames = 200;
   double mu_expected = -1.0;
-  std::string params_file;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto next = [&]() -> std::string {
-      if (i + 1 >= argc) {
-        std::cerr << "iraf_vo_bench_frontend: " << a << " needs a value\n";
-        std::exit(2);
-      }
-      return argv[++i];
-    };
-    try {
-      if (a == "--dataset") dataset = next();
-      else if (a == "--frames") frames = std::stoi(next());
-      else if (a == "--mu-expected") mu_expected = std::stod(next());
-      else if (a == "--params") params_file = next();
-      else if (a == "-h" || a == "--help") {
-        usage();
-        return 0;
-      } else {
-        std::cerr << "iraf_vo_bench_frontend: unknown argument '" << a << "'\n";
-        usage();
-        return 2;
-      }
-    } catch (const std::exception&) {
-      std::cerr << "iraf_vo_bench_frontend: bad value for " << a << ": '" << argv[i] << "'\n";
-      return 2;
-    }
-  }
-  if (dataset.empty() || frames < 1) {
-    usage();
-    return 2;
-  }
+  CommandLine cli("iraf_vo_bench_frontend",
+                  "Times the front-end (enhancement + feature stage) on an ASL folder, single thread.\n"
+                  "all-on uses the enhance / features parameters of --config / --set; all-off the same features\n"
+                  "with adaptive_threshold and culling off.");
+  cli.option("--dataset", "DIR", &dataset, "ASL folder (DIR/mav0/cam0/data.csv)");
+  cli.option("--frames", "N", &frames, 1, std::numeric_limits<int>::max(), "frames to time (default 200)");
+  cli.option("--mu-expected", "MU", &mu_expected, 1.0, 254.0, "= --set enhance.mu_expected=MU");
+  cli.stageParams({"enhance", "features"}, "features");
+  cli.require("--dataset");
+  if (const int code = cli.parse(argc, argv); code >= 0) return code;
+  PipelineParams params;
+  if (mu_expected > 0) params.enhance.mu_expected = mu_expected;
+  if (const int code = cli.applyStageParams(&params); code >= 0) return code;
   cv::setNumThreads(0);
   std::vector<cv::Mat> images;
   std::string err;
@@ -124,23 +100,9 @@ int main(int argc, char** argv) {
 
   cv::Ptr<cv::ORB> orb = cv::ORB::create(1000);
   Enhancer enhancer;
-  EnhanceParams ep;  // iraf
-  if (mu_expected > 0) ep.mu_expected = mu_expected;
+  const EnhanceParams& ep = params.enhance;  // iraf unless --set enhance.method
   FeatureExtractor fx_on, fx_off;
-  FeatureParams on;
-  if (!params_file.empty()) {
-    try {
-      const YAML::Node root = YAML::LoadFile(params_file);
-      const YAML::Node node = root.IsMap() && root["features"] ? root["features"] : root;
-      if (!loadFeatureParams(node, &on, &err)) {
-        std::cerr << "iraf_vo_bench_frontend: " << params_file << ": " << err << "\n";
-        return 1;
-      }
-    } catch (const YAML::Exception& e) {
-      std::cerr << "iraf_vo_bench_frontend: cannot read " << params_file << ": " << e.what() << "\n";
-      return 1;
-    }
-  }
+  const FeatureParams on = params.features;
   FeatureParams ref = on;  // the other detection path
   ref.fast_path = !on.fast_path;
   FeatureParams off = on;

@@ -2,7 +2,7 @@
 // does not? (docs/evaluation.md, culling table)
 //
 //   iraf_vo_culling_table --dataset DIR [--first N] [--frames N] [--no-enhance] [--apply-culling] [--bins B]
-//                         [--set features.key=value ...] [--set tracker.key=value ...] [--csv FILE]
+//                         [--config FILE] [--set section.key=value ...] [--csv FILE]
 //
 // Runs the front-end (Enhancer iraf unless --no-enhance, FeatureExtractor with the given FeatureParams but
 // culling OFF, so every keypoint reaches the tracker) and the tracker (mapping_thread = false: deterministic)
@@ -15,10 +15,9 @@
 // --apply-culling: culling ON as configured, so only the kept keypoints reach the tracker (the table then shows
 // the inlier rate of what the tracker received; the "culled" row holds only keypoints kept by min_features).
 // --csv writes one row per keypoint: frame,octave,response,threshold,density,contrast,S,inlier.
-#include <yaml-cpp/yaml.h>
-
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -27,16 +26,9 @@
 #include "iraf_vo/features/feature_extractor.h"
 #include "iraf_vo/io/image_folder.h"
 #include "iraf_vo/tracking/tracker.h"
-#include "iraf_vo/tracking/tracker_params_io.h"
+#include "iraf_vo/pipeline/command_line.h"
 
 namespace {
-
-void usage(FILE* f) {
-  std::fprintf(f,
-               "usage: iraf_vo_culling_table --dataset DIR [--first N] [--frames N] [--no-enhance] [--apply-culling] [--bins B]\n"
-               "                             [--set features.key=value] [--set tracker.key=value] [--csv FILE]\n"
-               "  DIR: ASL folder (DIR/mav0/cam0/data.csv, sensor.yaml); defaults: all frames, 10 bins of S in [0, 1]\n");
-}
 
 struct Counts {
   long n = 0, inliers = 0;
@@ -47,73 +39,27 @@ struct Counts {
 
 int main(int argc, char** argv) {
   std::string dataset, csv_path;
-  long first = 0, frames = -1;
-  int bins = 10;
+  int first_arg = 0, frames_arg = -1, bins = 10;
   bool enhance = true, apply_culling = false;
-  iraf_vo::FeatureParams fp;
-  iraf_vo::TrackerParams tp;
-  tp.mapping_thread = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "-h" || a == "--help") {
-      usage(stdout);
-      return 0;
-    }
-    if (a == "--no-enhance" || a == "--apply-culling") {
-      (a == "--no-enhance" ? enhance : apply_culling) = a == "--apply-culling";
-      continue;
-    }
-    if (i + 1 >= argc) {
-      std::fprintf(stderr, "iraf_vo_culling_table: %s needs a value\n", a.c_str());
-      usage(stderr);
-      return 2;
-    }
-    const std::string v = argv[++i];
-    try {
-      if (a == "--dataset") {
-        dataset = v;
-      } else if (a == "--csv") {
-        csv_path = v;
-      } else if (a == "--first" || a == "--frames" || a == "--bins") {
-        size_t used = 0;
-        const long x = std::stol(v, &used);
-        if (used != v.size() || x < 0) throw std::invalid_argument(v);
-        if (a == "--first") first = x;
-        else if (a == "--frames") frames = x;
-        else bins = static_cast<int>(x);
-      } else if (a == "--set") {
-        const size_t dot = v.find('.'), eq = v.find('=');
-        if (dot == std::string::npos || eq == std::string::npos || eq < dot) throw std::invalid_argument(v);
-        const std::string sec = v.substr(0, dot), key = v.substr(dot + 1, eq - dot - 1), val = v.substr(eq + 1);
-        std::string err;
-        bool ok = false;
-        if (sec == "features") {
-          YAML::Node n;
-          n[key] = YAML::Load(val);
-          ok = iraf_vo::loadFeatureParams(n, &fp, &err);
-        } else if (sec == "tracker") {
-          ok = iraf_vo::setTrackerParam(&tp, key, val, &err);
-        } else {
-          err = "unknown section '" + sec + "' (features, tracker)";
-        }
-        if (!ok) {
-          std::fprintf(stderr, "iraf_vo_culling_table: --set '%s': %s\n", v.c_str(), err.c_str());
-          return 2;
-        }
-      } else {
-        std::fprintf(stderr, "iraf_vo_culling_table: unknown argument '%s'\n", a.c_str());
-        usage(stderr);
-        return 2;
-      }
-    } catch (const std::exception&) {
-      std::fprintf(stderr, "iraf_vo_culling_table: bad value for %s: '%s'\n", a.c_str(), v.c_str());
-      return 2;
-    }
-  }
-  if (dataset.empty() || bins < 1) {
-    usage(stderr);
-    return 2;
-  }
+  iraf_vo::CommandLine cli("iraf_vo_culling_table",
+                           "Inlier rate of the tracker's keypoints per bin of the culling score S (eq. 23).");
+  cli.option("--dataset", "DIR", &dataset, "ASL folder (DIR/mav0/cam0/data.csv, sensor.yaml)");
+  cli.option("--first", "N", &first_arg, 0, std::numeric_limits<int>::max(), "first frame (default 0)");
+  cli.option("--frames", "N", &frames_arg, 0, std::numeric_limits<int>::max(), "frames to run (default: all)");
+  cli.option("--bins", "B", &bins, 1, 1000, "bins of S in [0, 1] (default 10)");
+  cli.option("--csv", "FILE", &csv_path,
+             "one row per keypoint: frame,octave,response,threshold,density,contrast,S,inlier");
+  cli.flag("--no-enhance", &enhance, "enhance.method none", false);
+  cli.flag("--apply-culling", &apply_culling, "culling on as configured: only the kept keypoints reach the tracker");
+  cli.stageParams({"enhance", "features", "tracker"});
+  cli.require("--dataset");
+  if (const int code = cli.parse(argc, argv); code >= 0) return code;
+  iraf_vo::PipelineParams params;
+  params.tracker.mapping_thread = false;  // deterministic (--set tracker.mapping_thread=true overrides)
+  if (const int code = cli.applyStageParams(&params); code >= 0) return code;
+  const long first = first_arg, frames = frames_arg;
+  const iraf_vo::FeatureParams& fp = params.features;
+  const iraf_vo::TrackerParams& tp = params.tracker;
   iraf_vo::AslImageReader reader;
   std::string err;
   if (!reader.open(dataset, &err)) {
@@ -140,7 +86,7 @@ int main(int argc, char** argv) {
   }
 
   iraf_vo::Enhancer enhancer;
-  iraf_vo::EnhanceParams ep;
+  iraf_vo::EnhanceParams ep = params.enhance;
   if (!enhance) ep.method = iraf_vo::EnhanceMethod::kNone;
   iraf_vo::FeatureExtractor extractor;
   iraf_vo::Tracker tracker(cam, tp);

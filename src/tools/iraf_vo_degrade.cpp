@@ -8,78 +8,30 @@
 // other mav0 sensors), writes OUT/mav0/cam0/data.csv + data/*.png, OUT/events.csv and OUT/exposure.csv.
 // Missing or unreadable images are reported and skipped; a missing dataset exits non-zero.
 #include <iostream>
+#include <limits>
 #include <string>
 
 #include <algorithm>
 #include <vector>
 
+#include "iraf_vo/pipeline/command_line.h"
 #include "iraf_vo/sim/light_profile.h"
 #include "iraf_vo/sim/sequence.h"
 
-namespace {
-void usage(std::ostream& os) {
-  os << "usage: iraf_vo_degrade DIR OUT --profile " << iraf_vo::lightProfileNames() << "\n"
-        "         [--seed S] [--reference-exposure SEC (0.01: the exposure the images were taken with)]\n"
-        "  DIR: ASL sequence (DIR/mav0/cam0/data.csv + data/), OUT: output folder (same layout)\n";
-}
-}  // namespace
-
 int main(int argc, char** argv) {
   std::string in_dir, out_dir, profile;
-  long seed = 1;
+  int seed = 1;
   double reference_exposure = 0.01;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "-h" || a == "--help") {
-      usage(std::cout);
-      return 0;
-    }
-    if (a == "--profile" || a == "--seed" || a == "--reference-exposure") {
-      if (i + 1 >= argc) {
-        std::cerr << "iraf_vo_degrade: " << a << " needs a value\n";
-        return 2;
-      }
-      const std::string v = argv[++i];
-      if (a == "--profile") {
-        profile = v;
-      } else if (a == "--reference-exposure") {
-        try {
-          size_t used = 0;
-          reference_exposure = std::stod(v, &used);
-          if (used != v.size() || !(reference_exposure > 0.0 && reference_exposure <= 1.0)) throw std::out_of_range("t");
-        } catch (const std::exception&) {
-          std::cerr << "iraf_vo_degrade: --reference-exposure must be a number in (0, 1] s (got '" << v << "')\n";
-          return 2;
-        }
-      } else {
-        try {
-          size_t used = 0;
-          seed = std::stol(v, &used);
-          if (used != v.size() || seed < 0) throw std::out_of_range("seed");
-        } catch (const std::exception&) {
-          std::cerr << "iraf_vo_degrade: --seed must be a non-negative integer (got '" << v << "')\n";
-          return 2;
-        }
-      }
-    } else if (!a.empty() && a[0] == '-') {
-      std::cerr << "iraf_vo_degrade: unknown option '" << a << "'\n";
-      usage(std::cerr);
-      return 2;
-    } else if (in_dir.empty()) {
-      in_dir = a;
-    } else if (out_dir.empty()) {
-      out_dir = a;
-    } else {
-      std::cerr << "iraf_vo_degrade: unexpected argument '" << a << "'\n";
-      usage(std::cerr);
-      return 2;
-    }
-  }
-  if (in_dir.empty() || out_dir.empty() || profile.empty()) {
-    std::cerr << "iraf_vo_degrade: DIR, OUT and --profile are required\n";
-    usage(std::cerr);
-    return 2;
-  }
+  iraf_vo::CommandLine cli("iraf_vo_degrade",
+                           "Passes a real ASL sequence through the simulator's camera model with a light profile.");
+  cli.positional("DIR", &in_dir, "ASL sequence (DIR/mav0/cam0/data.csv + data/)");
+  cli.positional("OUT", &out_dir, "output folder (same layout)");
+  cli.option("--profile", "P", &profile, iraf_vo::lightProfileNames());
+  cli.option("--seed", "S", &seed, 0, std::numeric_limits<int>::max(), "random seed (default 1)");
+  cli.option("--reference-exposure", "SEC", &reference_exposure, 1e-6, 1.0,
+             "the exposure the images were taken with (default 0.01)");
+  cli.require("--profile");
+  if (const int code = cli.parse(argc, argv); code >= 0) return code;
   // Count the rows first so the event frame ranges scale with the sequence length.
   std::vector<std::pair<int64_t, std::string>> rows;
   std::string err;

@@ -17,22 +17,13 @@
 #include <string>
 #include <vector>
 
-#include "iraf_vo/pipeline/pipeline_params.h"
+#include "iraf_vo/pipeline/command_line.h"
 #include "iraf_vo/enhance/enhancer.h"
 #include "iraf_vo/features/feature_extractor.h"
 
 using namespace iraf_vo;
 
 namespace {
-
-void usage(FILE* f) {
-  std::fprintf(f,
-               "usage: iraf_vo_draw_keypoints --input IMAGE --output OUT.png [--config params.yaml]\n"
-               "                              [--set enhance.key=value|features.key=value ...] [--scale S]\n"
-               "  left: baseline (original image, fixed FAST thresholds, no culling)\n"
-               "  right: IRAF (enhanced image, adaptive threshold, culling; culled keypoints as magenta crosses)\n"
-               "  --scale  output scale factor (default 1)\n");
-}
 
 void drawLabel(cv::Mat* img, const std::string& text, int line) {
   const double fs = std::max(0.5, img->cols / 1100.0);
@@ -51,68 +42,23 @@ int radius(const cv::KeyPoint& k) { return 3 + 2 * std::max(0, k.octave); }
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string input, output, config;
-  std::vector<std::string> sets;
+  std::string input, output;
   double scale = 1.0;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc) {
-        std::fprintf(stderr, "iraf_vo_draw_keypoints: %s needs a value\n", a.c_str());
-        std::exit(2);
-      }
-      return argv[++i];
-    };
-    if (a == "-h" || a == "--help") {
-      usage(stdout);
-      return 0;
-    } else if (a == "--input") {
-      input = value();
-    } else if (a == "--output") {
-      output = value();
-    } else if (a == "--config") {
-      config = value();
-    } else if (a == "--set") {
-      sets.push_back(value());
-    } else if (a == "--scale") {
-      const std::string v = value();
-      char* end = nullptr;
-      scale = std::strtod(v.c_str(), &end);
-      if (v.empty() || *end != '\0' || !(scale > 0.05 && scale <= 4.0)) {
-        std::fprintf(stderr, "iraf_vo_draw_keypoints: --scale '%s': expected a number in (0.05, 4]\n", v.c_str());
-        return 2;
-      }
-    } else {
-      std::fprintf(stderr, "iraf_vo_draw_keypoints: unknown argument '%s'\n", a.c_str());
-      usage(stderr);
-      return 2;
-    }
-  }
-  if (input.empty() || output.empty()) {
-    std::fprintf(stderr, "iraf_vo_draw_keypoints: --input and --output are required\n");
-    usage(stderr);
-    return 2;
-  }
-
-  PipelineParams params;  // the tracker section of --config / --set is checked but not used
-  std::string err;
-  if (!config.empty() && !loadPipelineConfig(config, &params, &err)) {
-    std::fprintf(stderr, "iraf_vo_draw_keypoints: --config %s\n", err.c_str());
-    return 2;
-  }
-  for (const std::string& s : sets)
-    if (!applyPipelineSetting(s, &params, &err)) {
-      std::fprintf(stderr, "iraf_vo_draw_keypoints: --set '%s': %s\n", s.c_str(), err.c_str());
-      return 2;
-    }
+  CommandLine cli("iraf_vo_draw_keypoints",
+                  "left: baseline (original image, fixed FAST thresholds, no culling)\n"
+                  "right: IRAF (enhanced image, adaptive threshold, culling; culled keypoints as magenta crosses)");
+  cli.option("--input", "IMAGE", &input, "the image");
+  cli.option("--output", "OUT.png", &output, "the side-by-side picture");
+  cli.option("--scale", "S", &scale, 0.05, 4.0, "output scale factor (default 1)");
+  cli.stageParams({"enhance", "features"});
+  cli.require("--input");
+  cli.require("--output");
+  if (const int code = cli.parse(argc, argv); code >= 0) return code;
+  PipelineParams params;
+  if (const int code = cli.applyStageParams(&params); code >= 0) return code;
   EnhanceParams& ep = params.enhance;
   const FeatureParams& fp = params.features;
   ep.method = EnhanceMethod::kIraf;  // the right panel is always the full IRAF front-end
-  for (const std::string& e : {validate(ep), validate(fp)})
-    if (!e.empty()) {
-      std::fprintf(stderr, "iraf_vo_draw_keypoints: %s\n", e.c_str());
-      return 2;
-    }
 
   const cv::Mat gray = cv::imread(input, cv::IMREAD_GRAYSCALE);
   if (gray.empty()) {

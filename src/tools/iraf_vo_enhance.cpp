@@ -1,13 +1,11 @@
 // iraf_vo_enhance: run the enhancement stage on one image or a folder of images.
 //
-//   iraf_vo_enhance INPUT OUTPUT_DIR [--method iraf|he|clahe|none] [--params FILE.yaml]
-//                   [--set key=value ...] [--threads N] [--csv stats.csv] [--no-write]
+//   iraf_vo_enhance INPUT OUTPUT_DIR [--method iraf|he|clahe|none] [--config FILE.yaml]
+//                   [--set enhance.key=value ...] [--threads N] [--csv stats.csv] [--no-write]
 //
 // INPUT: an image file, a folder of images, or an ASL/EuRoC folder (the images listed in mav0/cam0/data.csv).
 // Writes OUTPUT_DIR/<name>.png per image and prints per-image class/mu/t/ms and a summary. Missing / unreadable
 // images are reported (file, data.csv line), skipped and counted at the end; then the exit code is 1.
-#include <yaml-cpp/yaml.h>
-
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
 
@@ -17,7 +15,7 @@
 #include <iostream>
 #include <map>
 
-#include "iraf_vo/enhance/enhance_params_io.h"
+#include "iraf_vo/pipeline/command_line.h"
 #include "iraf_vo/enhance/enhancer.h"
 #include "iraf_vo/io/image_folder.h"
 
@@ -25,16 +23,6 @@ namespace fs = std::filesystem;
 using namespace iraf_vo;
 
 namespace {
-
-void usage() {
-  std::cerr << "usage: iraf_vo_enhance INPUT OUTPUT_DIR [--method iraf|he|clahe|none] [--params FILE.yaml]\n"
-               "                       [--set key=value ...] [--threads N] [--csv stats.csv] [--no-write]\n"
-               "  INPUT: image file, folder of images, or ASL folder (images listed in mav0/cam0/data.csv)\n"
-               "  missing / unreadable images are reported and skipped; exit code 1 if any was skipped\n"
-               "  parameters (--set): ";
-  for (const auto& n : enhanceParamNames()) std::cerr << n << " ";
-  std::cerr << "\n";
-}
 
 bool isImage(const fs::path& p) {
   std::string e = p.extension().string();
@@ -46,76 +34,36 @@ bool isImage(const fs::path& p) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::vector<std::string> pos;
-  EnhanceParams params;
+  std::string input_arg, output, method, csv_path;
   int threads = 1;
-  std::string csv_path;
   bool write = true;
+  CommandLine cli("iraf_vo_enhance",
+                  "Runs the enhancement stage on one image or a folder of images and writes OUTPUT_DIR/<name>.png.\n"
+                  "Missing / unreadable images are reported and skipped; exit code 1 if any was skipped.");
+  cli.positional("INPUT", &input_arg,
+                 "image file, folder of images, or ASL folder (images listed in mav0/cam0/data.csv)");
+  cli.positional("OUTPUT_DIR", &output, "where the enhanced images go (not needed with --no-write)", false);
+  cli.option("--method", "M", &method, "iraf | he | clahe | none (= --set enhance.method=M)");
+  cli.option("--threads", "N", &threads, 0, 256, "OpenCV threads (default 1)");
+  cli.option("--csv", "stats.csv", &csv_path, "per-image class, mu, t, ms");
+  cli.flag("--no-write", &write, "only the statistics, no images", false);
+  cli.stageParams({"enhance"}, "enhance");
+  if (const int code = cli.parse(argc, argv); code >= 0) return code;
+  if (write && output.empty()) {
+    std::cerr << "iraf_vo_enhance: OUTPUT_DIR is required (or --no-write)\n" << cli.usage();
+    return 2;
+  }
+  PipelineParams pipeline;
   std::string err;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto next = [&](const char* what) -> std::string {
-      if (i + 1 >= argc) {
-        std::cerr << "iraf_vo_enhance: " << a << " needs " << what << "\n";
-        std::exit(2);
-      }
-      return argv[++i];
-    };
-    if (a == "-h" || a == "--help") {
-      usage();
-      return 0;
-    } else if (a == "--method") {
-      const std::string m = next("a method");
-      if (!setEnhanceParam(&params, "method", m, &err)) {
-        std::cerr << "iraf_vo_enhance: " << err << " (iraf | he | clahe | none)\n";
-        return 2;
-      }
-    } else if (a == "--params") {
-      const std::string f = next("a YAML file");
-      try {
-        YAML::Node n = YAML::LoadFile(f);
-        if (n["enhance"]) n = n["enhance"];
-        if (!loadEnhanceParams(n, &params, &err)) {
-          std::cerr << "iraf_vo_enhance: " << f << ": " << err << "\n";
-          return 2;
-        }
-      } catch (const YAML::Exception& e) {
-        std::cerr << "iraf_vo_enhance: cannot read " << f << ": " << e.what() << "\n";
-        return 2;
-      }
-    } else if (a == "--set") {
-      const std::string kv = next("key=value");
-      const auto eq = kv.find('=');
-      if (eq == std::string::npos || !setEnhanceParam(&params, kv.substr(0, eq), kv.substr(eq + 1), &err)) {
-        std::cerr << "iraf_vo_enhance: --set " << kv << ": " << (err.empty() ? "expected key=value" : err) << "\n";
-        return 2;
-      }
-    } else if (a == "--threads") {
-      threads = std::atoi(next("a number").c_str());
-    } else if (a == "--csv") {
-      csv_path = next("a file");
-    } else if (a == "--no-write") {
-      write = false;
-    } else if (!a.empty() && a[0] == '-') {
-      std::cerr << "iraf_vo_enhance: unknown option " << a << "\n";
-      usage();
-      return 2;
-    } else {
-      pos.push_back(a);
-    }
-  }
-  if (pos.size() != 2 && !(pos.size() == 1 && !write)) {
-    usage();
+  if (!method.empty() && !setPipelineParam("enhance", "method", method, &pipeline, &err)) {
+    std::cerr << "iraf_vo_enhance: --method: " << err << " (iraf | he | clahe | none)\n";
     return 2;
   }
-  const std::string v = validate(params);
-  if (!v.empty()) {
-    std::cerr << "iraf_vo_enhance: invalid parameters: " << v << "\n";
-    return 2;
-  }
+  if (const int code = cli.applyStageParams(&pipeline); code >= 0) return code;
+  const EnhanceParams& params = pipeline.enhance;
   cv::setNumThreads(threads <= 1 ? 0 : threads);  // 0 = OpenCV runs sequentially
 
-  fs::path input = pos[0];
+  fs::path input = input_arg;
   std::vector<fs::path> files;
   std::error_code ec;
   AslImageReader asl;  // ASL folder: the images data.csv lists (missing ones reported with their line)
@@ -142,7 +90,7 @@ int main(int argc, char** argv) {
     std::cerr << "iraf_vo_enhance: no images (png/jpg/bmp/pgm/tif) in " << input << "\n";
     return 1;
   }
-  fs::path out_dir = pos.size() > 1 ? fs::path(pos[1]) : fs::path();
+  fs::path out_dir = output;
   if (write) {
     fs::create_directories(out_dir, ec);
     if (ec) {

@@ -1,7 +1,8 @@
 // iraf_vo_keypoint_curve: FAST keypoint count vs. fixed threshold on original and enhanced low-light images
 // (paper Fig. 3), plus the count with the adaptive threshold (eqs. 13-20).
 //
-//   iraf_vo_keypoint_curve [--input DIR] [--output FILE.csv] [--min 5] [--max 60] [--step 5] [--mu-expected MU]
+//   iraf_vo_keypoint_curve --input DIR [--output FILE.csv] [--min 5] [--max 60] [--step 5] [--mu-expected MU]
+//                          [--config FILE] [--set section.key=value ...]
 //
 // DIR (required; e.g. ../shared/data/lowlight_stills beside the checkout) is searched recursively for .jpg/.jpeg/.png/.bmp images.
 // For each image, as loaded ("original") and after iraf_vo::Enhancer ("enhanced"):
@@ -24,18 +25,12 @@
 
 #include "iraf_vo/enhance/enhancer.h"
 #include "iraf_vo/features/feature_extractor.h"
+#include "iraf_vo/pipeline/command_line.h"
 
 namespace fs = std::filesystem;
 using namespace iraf_vo;
 
 namespace {
-
-void usage() {
-  std::cerr << "usage: iraf_vo_keypoint_curve --input DIR [--output FILE.csv] [--min T] [--max T] [--step S]\n"
-               "                              [--mu-expected MU]\n"
-               "  DIR: low-light stills, e.g. ../shared/data/lowlight_stills beside the checkout\n"
-               "  defaults: --output keypoint_curve.csv --min 5 --max 60 --step 5\n";
-}
 
 bool isImage(const fs::path& p) {
   std::string e = p.extension().string();
@@ -49,45 +44,25 @@ int main(int argc, char** argv) {
   std::string input, output = "keypoint_curve.csv";
   int t_min = 5, t_max = 60, step = 5;
   double mu_expected = -1.0;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto next = [&]() -> std::string {
-      if (i + 1 >= argc) {
-        std::cerr << "iraf_vo_keypoint_curve: " << a << " needs a value\n";
-        std::exit(2);
-      }
-      return argv[++i];
-    };
-    try {
-      if (a == "--input") input = next();
-      else if (a == "--output") output = next();
-      else if (a == "--min") t_min = std::stoi(next());
-      else if (a == "--max") t_max = std::stoi(next());
-      else if (a == "--step") step = std::stoi(next());
-      else if (a == "--mu-expected") mu_expected = std::stod(next());
-      else if (a == "-h" || a == "--help") {
-        usage();
-        return 0;
-      } else {
-        std::cerr << "iraf_vo_keypoint_curve: unknown argument '" << a << "'\n";
-        usage();
-        return 2;
-      }
-    } catch (const std::exception&) {
-      std::cerr << "iraf_vo_keypoint_curve: bad value for " << a << ": '" << argv[i] << "'\n";
-      return 2;
-    }
-  }
-  if (t_min < 1 || t_max > 254 || t_min > t_max || step < 1) {
-    std::cerr << "iraf_vo_keypoint_curve: need 1 <= --min <= --max <= 254 and --step >= 1\n";
+  CommandLine cli("iraf_vo_keypoint_curve",
+                  "FAST keypoint count vs. fixed threshold on original and enhanced images (paper Fig. 3).");
+  cli.option("--input", "DIR", &input, "low-light stills, e.g. ../shared/data/lowlight_stills beside the checkout");
+  cli.option("--output", "FILE.csv", &output, "the curve (default keypoint_curve.csv)");
+  cli.option("--min", "T", &t_min, 1, 254, "lowest fixed threshold (default 5)");
+  cli.option("--max", "T", &t_max, 1, 254, "highest fixed threshold (default 60)");
+  cli.option("--step", "S", &step, 1, 254, "threshold step (default 5)");
+  cli.option("--mu-expected", "MU", &mu_expected, 1.0, 254.0, "= --set enhance.mu_expected=MU");
+  cli.stageParams({"enhance", "features"});
+  cli.require("--input");
+  if (const int code = cli.parse(argc, argv); code >= 0) return code;
+  if (t_min > t_max) {
+    std::cerr << "iraf_vo_keypoint_curve: need --min <= --max\n";
     return 2;
   }
+  PipelineParams params;
+  if (mu_expected > 0) params.enhance.mu_expected = mu_expected;
+  if (const int code = cli.applyStageParams(&params); code >= 0) return code;
   std::error_code ec;
-  if (input.empty()) {
-    std::cerr << "iraf_vo_keypoint_curve: --input DIR is required\n";
-    usage();
-    return 2;
-  }
   if (!fs::is_directory(input, ec)) {
     std::cerr << "iraf_vo_keypoint_curve: input folder '" << input << "' does not exist\n";
     return 1;
@@ -109,10 +84,9 @@ int main(int argc, char** argv) {
   cv::setNumThreads(0);
 
   Enhancer enhancer;
-  EnhanceParams ep;
-  if (mu_expected > 0) ep.mu_expected = mu_expected;
+  const EnhanceParams& ep = params.enhance;
   FeatureExtractor fx;
-  FeatureParams fp;  // adaptive on; one level, culling off: count the level-0 FAST candidates
+  FeatureParams fp = params.features;  // adaptive on; one level, culling off: count the level-0 FAST candidates
   fp.n_levels = 1;
   fp.culling = false;
 

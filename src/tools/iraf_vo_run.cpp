@@ -1,12 +1,12 @@
 // iraf_vo_run --dataset DIR_OR_BAG [--topic T] [--camera sensor.yaml] --out traj.txt
-//             [--mode iraf|baseline|enhance|adaptive|culling|he|clahe] [--gt GT] [--stats stats.json] [--config
-//             params.yaml]
-//             [--first N] [--frames N] [--set tracker.key=value ...] [--quiet]
+//             [--mode iraf|baseline|enhance|adaptive|culling|he|clahe] [--gt GT] [--stats stats.json]
+//             [--config params.yaml] [--first N] [--frames N] [--set section.key=value ...] [--quiet]
 // Offline monocular VO (no roscore): iraf_vo::OfflinePipeline (reader thread -> front-end thread) feeds the tracker
 // on this thread (BA on its own thread). Writes the TUM trajectory of every tracked frame and a summary (frames,
 // tracked %, lost events, map points, per-stage median / 95 % ms, ATE when --gt).
 #include <iraf_vo/camera/camera_loader.h>
 #include <iraf_vo/common/wall_clock.h>
+#include <iraf_vo/pipeline/command_line.h>
 #include <iraf_vo/eval/trajectory_eval.h>
 #include <iraf_vo/pipeline/pipeline_params.h>
 #include <iraf_vo/pipeline/run_report.h>
@@ -18,108 +18,61 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
 
 namespace {
 
-void usage(FILE* f) {
-  std::fprintf(
-      f,
-      "usage: iraf_vo_run --dataset DIR_OR_BAG [--topic T] [--camera sensor.yaml] --out traj.txt\n"
-      "                   [--mode iraf|baseline|enhance|adaptive|culling|he|clahe] [--gt GT] [--stats stats.json]\n"
-      "                   [--config params.yaml] [--first N] [--frames N] [--set section.key=value] [--frame-log F] "
-      "[--quiet]\n"
-      "                   [--no-resolution-rule] [--out-final traj_final.txt]\n"
-      "  --dataset  ASL folder (DIR/mav0/cam0/data.csv) or a rosbag (.bag, needs --topic)\n"
-      "  --camera   camera yaml (default: the ASL folder's mav0/cam0/sensor.yaml)\n"
-      "  --mode     iraf = enhancement + adaptive threshold + culling (default); baseline = all off;\n"
-      "             enhance / adaptive / culling = that module alone; he / clahe = global histogram\n"
-      "             equalization / CLAHE (clip 3.0, 8x8 tiles) + the baseline features (paper Table I)\n"
-      "  --gt       ground truth (TUM or EuRoC csv) -> Sim(3) ATE in the summary\n"
-      "  --config   YAML with optional maps 'enhance:', 'features:', 'tracker:' (keys = parameter names)\n"
-      "  --first/--frames  process frames [first, first + frames) only\n"
-      "  --frame-log per-frame CSV: index,stamp,state,keypoints,matches,inliers,keyframe,pnp,ms_track,note\n"
-      "             (note: why initialization failed / why the health monitor rejected the pose)\n"
-      "  --set      override one parameter, e.g. --set tracker.ba_window_size=12 (after --mode / --config)\n"
-      "  --no-resolution-rule  keep the 752x480 defaults of the size-dependent fields (n_features, cell_size,\n"
-      "             n_levels, search radii, init counts); default: derive the ones not given by --config / --set\n"
-      "             from the camera (pipeline_params.h, README)\n"
-      "  --out-final the trajectory after mapping: each tracked pose re-attached to its reference keyframe's\n"
-      "             final (BA-refined) pose, as ORB-SLAM / DSO result files are; --out keeps the poses as\n"
-      "             published at each frame. With --gt both ATEs are printed.\n");
-}
-
 struct Args {
-  std::string dataset, topic, camera_path, out, mode = "iraf", gt_path, stats_path, config_path, frame_log_path,
-      out_final;
-  long first = 0, max_frames = -1;
+  std::string dataset, topic, camera_path, out, mode = "iraf", gt_path, stats_path, frame_log_path, out_final;
+  int first = 0, max_frames = -1;
   bool quiet = false, no_resolution_rule = false;
-  std::vector<std::string> sets;
 };
 
-/// Exit code 2 for bad arguments, -1 when parsed.
-int parseArgs(int argc, char** argv, Args* a) {
-  for (int i = 1; i < argc; ++i) {
-    const std::string k = argv[i];
-    std::string* text = k == "--dataset"     ? &a->dataset
-                        : k == "--topic"     ? &a->topic
-                        : k == "--camera"    ? &a->camera_path
-                        : k == "--out"       ? &a->out
-                        : k == "--mode"      ? &a->mode
-                        : k == "--gt"        ? &a->gt_path
-                        : k == "--stats"     ? &a->stats_path
-                        : k == "--config"    ? &a->config_path
-                        : k == "--frame-log" ? &a->frame_log_path
-                        : k == "--out-final" ? &a->out_final
-                                             : nullptr;
-    const bool takes_value = text || k == "--set" || k == "--first" || k == "--frames";
-    if (k == "-h" || k == "--help") return usage(stdout), 0;
-    if (k == "--quiet" || k == "--no-resolution-rule") {
-      (k == "--quiet" ? a->quiet : a->no_resolution_rule) = true;
-      continue;
-    }
-    if (!takes_value) {
-      std::fprintf(stderr, "iraf_vo_run: unknown argument '%s'\n", k.c_str());
-      return usage(stderr), 2;
-    }
-    if (i + 1 >= argc) return std::fprintf(stderr, "iraf_vo_run: %s needs a value\n", k.c_str()), 2;
-    const std::string v = argv[++i];
-    if (text) {
-      *text = v;
-    } else if (k == "--set") {
-      a->sets.push_back(v);
-    } else {
-      char* end = nullptr;
-      const long x = std::strtol(v.c_str(), &end, 10);
-      if (v.empty() || *end != '\0' || x < 0)
-        return std::fprintf(stderr, "iraf_vo_run: %s '%s': expected an integer >= 0\n", k.c_str(), v.c_str()), 2;
-      (k == "--first" ? a->first : a->max_frames) = x;
-    }
-  }
-  if (a->dataset.empty() || a->out.empty()) {
-    std::fprintf(stderr, "iraf_vo_run: --dataset and --out are required\n");
-    return usage(stderr), 2;
-  }
-  return -1;
-}
-
-/// Parameters: defaults -> mode -> config -> --set. Exit code 2 on error, -1 when usable.
-int makeParams(const Args& a, iraf_vo::PipelineParams* p) {
+/// Parameters: defaults -> mode -> --config -> --set. Exit code 0 / 2 when the run should not start, -1 otherwise.
+int parseArgs(int argc, char** argv, Args* a, iraf_vo::PipelineParams* p) {
+  iraf_vo::CommandLine cli(
+      "iraf_vo_run",
+      "Offline monocular VO on an ASL folder or a rosbag: writes the TUM trajectory and prints a summary.");
+  cli.option("--dataset", "DIR_OR_BAG", &a->dataset,
+             "ASL folder (DIR/mav0/cam0/data.csv) or a rosbag (.bag, needs --topic)");
+  cli.option("--topic", "T", &a->topic, "image topic of a bag");
+  cli.option("--camera", "sensor.yaml", &a->camera_path,
+             "camera yaml (default: the ASL folder's mav0/cam0/sensor.yaml)");
+  cli.option("--out", "traj.txt", &a->out, "TUM trajectory of every tracked frame, as published at each frame");
+  cli.option("--mode", "M", &a->mode,
+             "iraf = enhancement + adaptive threshold + culling (default); baseline = all off;\n"
+             "enhance / adaptive / culling = that module alone; he / clahe = global histogram\n"
+             "equalization / CLAHE (clip 3.0, 8x8 tiles) + the baseline features (paper Table I)");
+  cli.option("--gt", "GT", &a->gt_path, "ground truth (TUM or EuRoC csv) -> Sim(3) ATE in the summary");
+  cli.option("--stats", "stats.json", &a->stats_path, "the summary as JSON");
+  cli.option("--first", "N", &a->first, 0, std::numeric_limits<int>::max(), "first frame to process");
+  cli.option("--frames", "N", &a->max_frames, 0, std::numeric_limits<int>::max(),
+             "process frames [first, first + N) only");
+  cli.option("--frame-log", "F", &a->frame_log_path,
+             "per-frame CSV: index,stamp,state,keypoints,matches,inliers,keyframe,pnp,ms_track,note\n"
+             "(note: why initialization failed / why the health monitor rejected the pose)");
+  cli.option("--out-final", "traj_final.txt", &a->out_final,
+             "the trajectory after mapping: each tracked pose re-attached to its reference keyframe's\n"
+             "final (BA-refined) pose, as ORB-SLAM / DSO result files are. With --gt both ATEs are printed.");
+  cli.flag("--quiet", &a->quiet, "no progress line, no resolution-rule line");
+  cli.flag("--no-resolution-rule", &a->no_resolution_rule,
+           "keep the 752x480 defaults of the size-dependent fields (n_features, cell_size, n_levels,\n"
+           "search radii, init counts); default: derive the ones not given by --config / --set from the\n"
+           "camera (pipeline_params.h)");
+  cli.stageParams({"enhance", "features", "tracker"});
+  cli.require("--dataset");
+  cli.require("--out");
+  int code = cli.parse(argc, argv);
+  if (code >= 0) return code;
   iraf_vo::FrontEndMode mode;
-  if (!iraf_vo::parseFrontEndMode(a.mode, &mode))
-    return std::fprintf(stderr, "iraf_vo_run: --mode '%s': expected %s\n", a.mode.c_str(), iraf_vo::frontEndModeList()),
+  if (!iraf_vo::parseFrontEndMode(a->mode, &mode))
+    return std::fprintf(stderr, "iraf_vo_run: --mode '%s': expected %s\n", a->mode.c_str(), iraf_vo::frontEndModeList()),
            2;
   iraf_vo::applyFrontEndMode(mode, &p->enhance, &p->features);
-  std::string err;
-  if (!a.config_path.empty() && !iraf_vo::loadPipelineConfig(a.config_path, p, &err))
-    return std::fprintf(stderr, "iraf_vo_run: --config %s\n", err.c_str()), 2;
-  for (const std::string& s : a.sets)
-    if (!iraf_vo::applyPipelineSetting(s, p, &err))
-      return std::fprintf(stderr, "iraf_vo_run: --set '%s': %s\n", s.c_str(), err.c_str()), 2;
-  if (!(err = iraf_vo::validate(*p)).empty()) return std::fprintf(stderr, "iraf_vo_run: %s\n", err.c_str()), 2;
-  return -1;
+  return cli.applyStageParams(p);
 }
 
 double processCpuSeconds() {
@@ -133,8 +86,7 @@ double processCpuSeconds() {
 int main(int argc, char** argv) {
   Args a;
   iraf_vo::PipelineParams params;
-  int code = parseArgs(argc, argv, &a);
-  if (code >= 0 || (code = makeParams(a, &params)) >= 0) return code;
+  if (const int code = parseArgs(argc, argv, &a, &params); code >= 0) return code;
 
   // ---- input ----
   struct stat ds;
@@ -173,7 +125,7 @@ int main(int argc, char** argv) {
   const long total = static_cast<long>(source->size());
   iraf_vo::PipelineOptions opts;
   opts.first = a.first;
-  opts.last = a.max_frames >= 0 ? std::min<long>(total, a.first + a.max_frames) : total;
+  opts.last = a.max_frames >= 0 ? std::min<long>(total, static_cast<long>(a.first) + a.max_frames) : total;
   opts.width = cam->width();
   opts.height = cam->height();
   opts.camera_name = a.camera_path;

@@ -25,6 +25,7 @@
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/image_encodings.h>
 
+#include "iraf_vo/pipeline/command_line.h"
 #include "iraf_vo/sim/light_profile.h"
 #include "iraf_vo/sim/motion_preset.h"
 #include "iraf_vo/sim/photometric.h"
@@ -33,113 +34,52 @@
 #include "iraf_vo/sim/scene_presets.h"
 #include "iraf_vo/sim/sequence.h"
 
-namespace {
-
-void usage(std::ostream& os) {
-  os << "usage: iraf_vo_simulate --preset " << iraf_vo::lightProfileNames() << "\n"
-        "         --out DIR\n"
-        "         [--motion " << iraf_vo::motionKindNames() << " (room)] [--static-start SEC (0)]\n"
-        "         [--frames N] [--rate HZ] [--camera pinhole|fisheye|kitti|davis240|path/to/sensor.yaml]\n"
-        "         [--width W --height H] [--seed S] [--speed X (speed factor: loop rate, drive / slider speed)]\n"
-        "         [--supersample S (1..4)] [--motion-blur K (sub-frame renders)] [--exposure SEC]\n"
-        "         [--bag OUT.bag] [--threads N (0 = all cores)] [--no-photos]\n"
-        "         [--depth (also OUT/mav0/depth0: 16-bit PNG z-depth in mm)]\n"
-        "       iraf_vo_simulate --benchmark N [--motion M] [--camera ...] [--width W --height H]\n"
-        "Motions (each with its own default camera, rate, frames, motion blur; the options above override them):\n"
-        "  room           textured 8x6x3 m room, smooth 6-DoF loop, pinhole (EuRoC cam0 752x480), 20 Hz, 400 frames\n"
-        "  drive          street (asphalt, facades 3-50 m, cars, trees), 10 m/s with gentle S-curves, camera 1.65 m\n"
-        "                 high; kitti (1241x376, f 718.9), 10 Hz (1 m/frame), 100 frames, blur 3 x 2 ms\n"
-        "  slider         pure sideways translation (0.25 m/s, 1 m travel, back and forth) past table objects at\n"
-        "                 0.3-1 m and a wall at 4 m; davis240 (240x180, f 200, k1 -0.1), 25 Hz, 100 frames, blur 3 x 10 ms\n"
-        "  handheld_fast  the room loop with fast hand rotations (<= 3 deg/frame); pinhole or --camera fisheye,\n"
-        "                 20 Hz, 300 frames, motion blur 4 x 8 ms\n"
-        "  --static-start SEC: the camera stands still for SEC s, then accelerates over 1 s (any motion)\n";
-}
-
-bool parseInt(const std::string& key, const std::string& v, int lo, int hi, int* out) {
-  try {
-    size_t used = 0;
-    const long x = std::stol(v, &used);
-    if (used != v.size() || x < lo || x > hi) throw std::out_of_range("range");
-    *out = static_cast<int>(x);
-    return true;
-  } catch (const std::exception&) {
-    std::cerr << "iraf_vo_simulate: " << key << " must be an integer in [" << lo << ", " << hi << "] (got '" << v << "')\n";
-    return false;
-  }
-}
-
-bool parseDouble(const std::string& key, const std::string& v, double lo, double hi, double* out) {
-  try {
-    size_t used = 0;
-    const double x = std::stod(v, &used);
-    if (used != v.size() || !(x >= lo && x <= hi)) throw std::out_of_range("range");
-    *out = x;
-    return true;
-  } catch (const std::exception&) {
-    std::cerr << "iraf_vo_simulate: " << key << " must be a number in [" << lo << ", " << hi << "] (got '" << v << "')\n";
-    return false;
-  }
-}
-
-}  // namespace
-
 int main(int argc, char** argv) {
   iraf_vo::SimParams sim;
   iraf_vo::TrajectoryParams traj;
   iraf_vo::SceneParams scene_params;
   std::string preset, out_dir, bag_path, motion_name = "room";
   int seed = 1, benchmark = 0;
-  bool set_camera = false, set_frames = false, set_rate = false, set_blur = false, set_exposure = false;
   double static_start = 0.0;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "-h" || a == "--help") {
-      usage(std::cout);
-      return 0;
-    }
-    if (a == "--no-photos") {
-      scene_params.photo_dir.clear();
-      continue;
-    }
-    if (a == "--depth") {
-      sim.write_depth = true;
-      continue;
-    }
-    if (i + 1 >= argc) {
-      std::cerr << "iraf_vo_simulate: " << a << " needs a value\n";
-      usage(std::cerr);
-      return 2;
-    }
-    const std::string v = argv[++i];
-    bool ok = true;
-    if (a == "--preset") preset = v;
-    else if (a == "--out") out_dir = v;
-    else if (a == "--bag") bag_path = v;
-    else if (a == "--camera") sim.camera = v, set_camera = true;
-    else if (a == "--motion") motion_name = v;
-    else if (a == "--static-start") ok = parseDouble(a, v, 0.0, 3600.0, &static_start);
-    else if (a == "--rate") ok = parseDouble(a, v, 0.1, 1000.0, &sim.rate_hz), set_rate = true;
-    else if (a == "--frames") ok = parseInt(a, v, 1, 1000000, &sim.frames), set_frames = true;
-    else if (a == "--width") ok = parseInt(a, v, 16, 8192, &sim.width);
-    else if (a == "--height") ok = parseInt(a, v, 16, 8192, &sim.height);
-    else if (a == "--seed") ok = parseInt(a, v, 0, 2147483647, &seed);
-    else if (a == "--threads") ok = parseInt(a, v, 0, 256, &sim.threads);
-    else if (a == "--supersample") ok = parseInt(a, v, 1, 4, &sim.supersample);
-    else if (a == "--motion-blur") ok = parseInt(a, v, 1, 64, &sim.motion_blur_samples), set_blur = true;
-    else if (a == "--exposure") ok = parseDouble(a, v, 0.0, 0.05, &sim.exposure_time_s), set_exposure = true;
-    else if (a == "--speed") ok = parseDouble(a, v, 0.05, 5.0, &traj.speed);
-    else if (a == "--benchmark") ok = parseInt(a, v, 1, 100000, &benchmark);
-    else {
-      std::cerr << "iraf_vo_simulate: unknown argument '" << a << "'\n";
-      usage(std::cerr);
-      return 2;
-    }
-    if (!ok) return 2;
-  }
+  bool no_photos = false;
+  iraf_vo::CommandLine cli(
+      "iraf_vo_simulate",
+      "Renders a textured scene along a motion preset and writes an ASL folder (+ TUM ground truth, events.csv).\n"
+      "       iraf_vo_simulate --benchmark N [--motion M] [--camera ...] [--width W --height H]\n"
+      "Motions (each with its own default camera, rate, frames, motion blur; the options override them):\n"
+      "  room           textured 8x6x3 m room, smooth 6-DoF loop, pinhole (EuRoC cam0 752x480), 20 Hz, 400 frames\n"
+      "  drive          street (asphalt, facades 3-50 m, cars, trees), 10 m/s with gentle S-curves, camera 1.65 m\n"
+      "                 high; kitti (1241x376, f 718.9), 10 Hz (1 m/frame), 100 frames, blur 3 x 2 ms\n"
+      "  slider         pure sideways translation (0.25 m/s, 1 m travel, back and forth) past table objects at\n"
+      "                 0.3-1 m and a wall at 4 m; davis240 (240x180, f 200, k1 -0.1), 25 Hz, 100 frames, blur 3 x 10 ms\n"
+      "  handheld_fast  the room loop with fast hand rotations (<= 3 deg/frame); pinhole or --camera fisheye,\n"
+      "                 20 Hz, 300 frames, motion blur 4 x 8 ms");
+  cli.option("--preset", "P", &preset, "light profile: " + iraf_vo::lightProfileNames());
+  cli.option("--out", "DIR", &out_dir, "output ASL folder");
+  cli.option("--motion", "M", &motion_name, iraf_vo::motionKindNames() + " (default room)");
+  cli.option("--static-start", "SEC", &static_start, 0.0, 3600.0,
+             "the camera stands still for SEC s, then accelerates over 1 s (any motion)");
+  cli.option("--frames", "N", &sim.frames, 1, 1000000, "frames (default: the motion's)");
+  cli.option("--rate", "HZ", &sim.rate_hz, 0.1, 1000.0, "frame rate (default: the motion's)");
+  cli.option("--camera", "C", &sim.camera, "pinhole | fisheye | kitti | davis240 | path/to/sensor.yaml");
+  cli.option("--width", "W", &sim.width, 16, 8192, "image width (with --height)");
+  cli.option("--height", "H", &sim.height, 16, 8192, "image height (with --width)");
+  cli.option("--seed", "S", &seed, 0, 2147483647, "random seed (default 1)");
+  cli.option("--speed", "X", &traj.speed, 0.05, 5.0, "speed factor: loop rate, drive / slider speed");
+  cli.option("--supersample", "S", &sim.supersample, 1, 4, "supersampling per side");
+  cli.option("--motion-blur", "K", &sim.motion_blur_samples, 1, 64, "sub-frame renders");
+  cli.option("--exposure", "SEC", &sim.exposure_time_s, 0.0, 0.05, "exposure time of the motion blur");
+  cli.option("--bag", "OUT.bag", &bag_path, "also a rosbag with /cam0/image_raw mono8 and /groundtruth/pose");
+  cli.option("--threads", "N", &sim.threads, 0, 256, "render threads (0 = all cores)");
+  cli.flag("--no-photos", &no_photos, "no photo posters on the walls");
+  cli.flag("--depth", &sim.write_depth, "also OUT/mav0/depth0: 16-bit PNG z-depth in mm");
+  cli.option("--benchmark", "N", &benchmark, 1, 100000, "render speed over N frames, single core and all cores");
+  if (const int code = cli.parse(argc, argv); code >= 0) return code;
+  if (no_photos) scene_params.photo_dir.clear();
+  const bool set_camera = cli.given("--camera"), set_frames = cli.given("--frames"), set_rate = cli.given("--rate"),
+             set_blur = cli.given("--motion-blur"), set_exposure = cli.given("--exposure");
   if (benchmark == 0 && (preset.empty() || out_dir.empty())) {
-    std::cerr << "iraf_vo_simulate: --preset and --out are required\n";
-    usage(std::cerr);
+    std::cerr << "iraf_vo_simulate: --preset and --out are required\n" << cli.usage();
     return 2;
   }
   iraf_vo::MotionKind motion;

@@ -1,8 +1,9 @@
 // Ceres building blocks shared by the pose-only refinement (pose_optimization.cpp) and the bundle adjustment
-// (geometry.cpp): the pose parameter block, its manifold and the reprojection costs. Internal to src/tracking.
+// (bundle_adjustment.cpp): the pose parameter block, its manifold and the reprojection costs. Internal to src/tracking.
 #pragma once
 
-#include <iraf_vo/tracking/geometry.h>
+#include "iraf_vo/camera/camera_model.h"
+#include "iraf_vo/tracking/geometry.h"
 
 #include <ceres/ceres.h>
 

@@ -1,4 +1,4 @@
-#include <iraf_vo/tracking/frame.h>
+#include "iraf_vo/tracking/frame.h"
 
 #include <algorithm>
 #include <array>

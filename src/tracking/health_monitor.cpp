@@ -1,4 +1,4 @@
-#include <iraf_vo/tracking/health_monitor.h>
+#include "iraf_vo/tracking/health_monitor.h"
 
 #include <algorithm>
 #include <cmath>

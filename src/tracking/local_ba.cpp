@@ -1,5 +1,4 @@
-#include <iraf_vo/tracking/local_ba.h>
-#include <iraf_vo/tracking/map.h>
+#include "iraf_vo/tracking/local_ba.h"
 
 #include <algorithm>
 #include <cmath>
@@ -61,18 +60,20 @@ void holdScaleAboutAnchor(LocalBAProblem* prob, double baseline) {
   for (auto& p : prob->points) p.p_w = c0 + s * (p.p_w - c0);
 }
 
-// Map's side of the local BA: building the problem and merging the result, each under the map lock.
-LocalBAProblem Map::localBAProblem(int window_size, double min_fixed_span) const {
+// The map's side of the local BA: building the problem and merging the result, each under the map lock.
+LocalBAProblem buildLocalBAProblem(const Map& map, int window_size, double min_fixed_span) {
   LocalBAProblem prob;
-  std::lock_guard<std::mutex> lk(mutex_);
-  if (keyframes_.size() < 2) return prob;
-  prob.next_keyframe_id = next_keyframe_id_;
-  prob.next_point_id = next_point_id_;
+  std::lock_guard<std::mutex> lk(map.mutex_);
+  const auto& keyframes = map.keyframes_;
+  const auto& points = map.points_;
+  if (keyframes.size() < 2) return prob;
+  prob.next_keyframe_id = map.next_keyframe_id_;
+  prob.next_point_id = map.next_point_id_;
   // Keyframe id -> problem index, and the keyframe of each problem index (no map lookup per observation).
   std::unordered_map<long, int> kf_index;
   std::vector<const Keyframe*> keyframe_of;
   int nwin = 0;
-  for (auto it = keyframes_.rbegin(); it != keyframes_.rend() && nwin < window_size; ++it, ++nwin) {
+  for (auto it = keyframes.rbegin(); it != keyframes.rend() && nwin < window_size; ++it, ++nwin) {
     kf_index[it->first] = static_cast<int>(prob.keyframe_ids.size());
     prob.keyframe_ids.push_back(it->first);
     keyframe_of.push_back(it->second.get());
@@ -89,8 +90,8 @@ LocalBAProblem Map::localBAProblem(int window_size, double min_fixed_span) const
   for (int w = 0; w < nwin; ++w) {
     for (long pid : keyframe_of[static_cast<size_t>(w)]->point_id) {
       if (pid < 0 || !considered.insert(pid).second) continue;
-      auto pt = points_.find(pid);
-      if (pt == points_.end() || pt->second->obs.size() < 2) continue;
+      auto pt = points.find(pid);
+      if (pt == points.end() || pt->second->obs.size() < 2) continue;
       prob.point_ids.push_back(pid);
       prob.points.push_back({pt->second->p_w});
       point_of.push_back(pt->second.get());
@@ -104,8 +105,8 @@ LocalBAProblem Map::localBAProblem(int window_size, double min_fixed_span) const
       if (ki != kf_index.end()) {
         kidx = ki->second;
       } else {
-        auto k = keyframes_.find(o.first);
-        if (k == keyframes_.end()) continue;
+        auto k = keyframes.find(o.first);
+        if (k == keyframes.end()) continue;
         kidx = static_cast<int>(prob.keyframe_ids.size());
         kf_index[o.first] = kidx;
         prob.keyframe_ids.push_back(o.first);
@@ -132,34 +133,36 @@ LocalBAProblem Map::localBAProblem(int window_size, double min_fixed_span) const
   return prob;
 }
 
-void Map::applyLocalBA(const LocalBAProblem& prob, const BASummary& summary) {
-  std::lock_guard<std::mutex> lk(mutex_);
+void applyLocalBA(const LocalBAProblem& prob, const BASummary& summary, Map* map) {
+  std::lock_guard<std::mutex> lk(map->mutex_);
+  auto& keyframes = map->keyframes_;
+  auto& points = map->points_;
   // correction[kf id] maps the pre-BA world to the optimized one for things anchored at that keyframe:
   // p_new = T_new^-1 * T_old * p_old (identity for fixed keyframes).
   std::unordered_map<long, Eigen::Isometry3d> correction;
   for (size_t k = 0; k < prob.keyframe_ids.size(); ++k) {
     if (prob.keyframes[k].fixed) continue;
-    auto it = keyframes_.find(prob.keyframe_ids[k]);
-    if (it == keyframes_.end()) continue;
+    auto it = keyframes.find(prob.keyframe_ids[k]);
+    if (it == keyframes.end()) continue;
     correction[it->first] = prob.keyframes[k].T_c_w.inverse() * it->second->T_c_w;
     it->second->T_c_w = prob.keyframes[k].T_c_w;
   }
   for (size_t i = 0; i < prob.point_ids.size(); ++i) {
-    auto it = points_.find(prob.point_ids[i]);
-    if (it != points_.end()) it->second->p_w = prob.points[i].p_w;
+    auto it = points.find(prob.point_ids[i]);
+    if (it != points.end()) it->second->p_w = prob.points[i].p_w;
   }
   // Added while BA ran: keyframes (posed against the pre-BA map) follow the newest window keyframe; points
   // follow the keyframe that created them (if it was optimized) or the newest window keyframe.
   const auto newest = prob.keyframe_ids.empty() ? correction.end() : correction.find(prob.keyframe_ids[0]);
   if (newest != correction.end()) {
     const Eigen::Isometry3d C_newest = newest->second;
-    for (auto it = keyframes_.lower_bound(prob.next_keyframe_id); it != keyframes_.end(); ++it) {
+    for (auto it = keyframes.lower_bound(prob.next_keyframe_id); it != keyframes.end(); ++it) {
       it->second->T_c_w = it->second->T_c_w * C_newest.inverse();
       correction[it->first] = C_newest;
     }
   }
   if (!correction.empty()) {
-    for (auto& kv : points_) {
+    for (auto& kv : points) {
       if (kv.first < prob.next_point_id) continue;
       auto c = correction.find(kv.second->first_kf);
       if (c != correction.end()) kv.second->p_w = c->second * kv.second->p_w;
@@ -167,13 +170,13 @@ void Map::applyLocalBA(const LocalBAProblem& prob, const BASummary& summary) {
   }
   for (size_t j = 0; j < prob.observations.size(); ++j) {
     if (!summary.outlier[j]) continue;
-    auto pt = points_.find(prob.point_ids[prob.observations[j].point]);
-    if (pt == points_.end()) continue;
+    auto pt = points.find(prob.point_ids[prob.observations[j].point]);
+    if (pt == points.end()) continue;
     const auto& [kf_id, kp] = prob.observation_keypoint[j];
-    auto k = keyframes_.find(kf_id);
+    auto k = keyframes.find(kf_id);
     pt->second->obs.erase(kf_id);
-    if (k != keyframes_.end() && k->second->point_id[kp] == pt->first) k->second->point_id[kp] = -1;
-    if (pt->second->obs.empty()) points_.erase(pt);
+    if (k != keyframes.end() && k->second->point_id[kp] == pt->first) k->second->point_id[kp] = -1;
+    if (pt->second->obs.empty()) points.erase(pt);
   }
 }
 

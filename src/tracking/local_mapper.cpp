@@ -1,6 +1,10 @@
-#include <iraf_vo/tracking/local_mapper.h>
+#include "iraf_vo/tracking/local_mapper.h"
 
-#include <iraf_vo/common/cpu_clock.h>
+#include "iraf_vo/common/cpu_clock.h"
+#include "iraf_vo/tracking/bundle_adjustment.h"
+#include "iraf_vo/tracking/local_ba.h"
+#include "iraf_vo/tracking/map_fusion.h"
+#include "iraf_vo/tracking/multiview.h"
 
 #include <algorithm>
 #include <cmath>
@@ -23,21 +27,30 @@ LocalMapper::~LocalMapper() {
   if (thread_.joinable()) thread_.join();
 }
 
+long LocalMapper::addKeyframe(const Frame& f) {
+  waitUntilIdle();  // the running BA took its window before this keyframe exists (the same window every run)
+  const long kf_id = map_->addKeyframe(f);
+  acceptKeyframe(kf_id);
+  return kf_id;
+}
+
+void LocalMapper::acceptKeyframe(long kf_id) {
+  if (p_.mapping_thread) {
+    commitPendingBA();
+    map_->dropOldKeyframes(p_.max_map_keyframes);
+  }
+  mapKeyframe(kf_id);
+}
+
 void LocalMapper::insertKeyframe(long kf_id) {
   if (!p_.mapping_thread) {
-    processKeyframe(kf_id, true);
+    localBundleAdjustment();
+    map_->dropOldKeyframes(p_.max_map_keyframes);
     return;
   }
   {
-    std::unique_lock<std::mutex> lk(queue_mutex_);
-    // Back-pressure: under CPU overload the mapping thread falls behind and the tracker would run on an
-    // unoptimized map (monocular scale drifts); wait until fewer than max_pending_keyframes are queued.
-    if (p_.max_pending_keyframes > 0)
-      idle_cv_.wait(lk, [this] {
-        return stop_ || static_cast<int>(queue_.size()) + (busy_ ? 1 : 0) < p_.max_pending_keyframes;
-      });
+    std::lock_guard<std::mutex> lk(queue_mutex_);
     queue_.push_back(kf_id);
-    if (p_.ba_abort_on_keyframe) abort_ba_ = true;
   }
   queue_cv_.notify_one();
 }
@@ -71,25 +84,15 @@ LocalMapperStats LocalMapper::stats() const {
 
 void LocalMapper::run() {
   for (;;) {
-    long id;
-    bool last_in_queue;
     {
       std::unique_lock<std::mutex> lk(queue_mutex_);
       queue_cv_.wait(lk, [this] { return stop_ || !queue_.empty(); });
       if (stop_) return;
-      id = queue_.front();
       queue_.pop_front();
       busy_ = true;
       abort_ba_ = false;
-      last_in_queue = queue_.empty();
     }
-    idle_cv_.notify_all();  // a queue slot is free (back-pressure in insertKeyframe)
-    // BA when no keyframe waits, and at least every ba_every_keyframes keyframes even when they keep
-    // arriving (otherwise BA starves under load and the monocular scale drifts).
-    ++keyframes_since_ba_;
-    const bool run_ba = last_in_queue || keyframes_since_ba_ >= p_.ba_every_keyframes;
-    if (run_ba) keyframes_since_ba_ = 0;
-    processKeyframe(id, run_ba);
+    localBundleAdjustment();
     {
       std::lock_guard<std::mutex> lk(queue_mutex_);
       busy_ = false;
@@ -98,35 +101,22 @@ void LocalMapper::run() {
   }
 }
 
-bool LocalMapper::deferred() const { return p_.mapping_thread && p_.ba_deferred_commit; }
-
 void LocalMapper::mapKeyframe(long kf_id) {
   map_->cullRecentPoints(kf_id, p_.min_found_ratio);
   map_->updateDescriptors(kf_id);
   createNewMapPoints(kf_id);
 }
 
-void LocalMapper::processKeyframe(long kf_id, bool run_ba) {
-  if (!deferred()) mapKeyframe(kf_id);
-  if (run_ba && !(p_.mapping_thread && p_.ba_abort_on_keyframe && abort_ba_.load())) localBundleAdjustment();
-  if (!deferred()) map_->dropOldKeyframes(p_.max_map_keyframes);
-}
-
-bool LocalMapper::commitPendingBA() {
+void LocalMapper::commitPendingBA() {
   waitUntilIdle();
   std::unique_ptr<PendingBA> done;
   {
     std::lock_guard<std::mutex> lk(queue_mutex_);
     done.swap(pending_ba_);
   }
-  if (done) map_->applyLocalBA(done->problem, done->summary);
-  return done != nullptr;
-}
-
-void LocalMapper::mapKeyframeInTracking(long kf_id) {
-  commitPendingBA();
-  map_->dropOldKeyframes(p_.max_map_keyframes);
-  mapKeyframe(kf_id);
+  if (!done) return;
+  applyLocalBA(done->problem, done->summary, map_);
+  recordScaleChange(done->extent_before, done->problem);
 }
 
 void LocalMapper::createNewMapPoints(long kf_id) {
@@ -169,16 +159,16 @@ void LocalMapper::createNewMapPoints(long kf_id) {
 void LocalMapper::fuseMapPoints(long kf_id) {
   if (p_.fuse_neighbors <= 0) return;
   std::vector<FusionLink> links;
-  for (const FusionTarget& t : map_->fusionTargets(kf_id, p_.fuse_neighbors, p_.predict_scale ? &cam_ : nullptr)) {
+  for (const FusionTarget& t : fusionTargets(*map_, kf_id, p_.fuse_neighbors, p_.predict_scale ? &cam_ : nullptr)) {
     const std::vector<FusionLink> l = matcher_.searchForFusion(t, p_.fuse_radius_px);
     links.insert(links.end(), l.begin(), l.end());
   }
-  map_->fuse(links);
+  applyFusion(links, map_);
 }
 
 void LocalMapper::localBundleAdjustment() {
   const double cpu0 = threadCpuMs();
-  LocalBAProblem prob = map_->localBAProblem(p_.ba_window_size, p_.ba_min_fixed_span);
+  LocalBAProblem prob = buildLocalBAProblem(*map_, p_.ba_window_size, p_.ba_min_fixed_span);
   if (prob.observations.empty()) return;
   BAOptions options;
   options.max_num_iterations = p_.ba_max_num_iterations;
@@ -203,14 +193,14 @@ void LocalMapper::localBundleAdjustment() {
     stats_.ba_final_rmse_px = summary.final_rmse_px;
   }
   if (!ok) return;
-  recordScaleChange(before, prob);
-  if (deferred()) {  // committed by the tracking thread at its next keyframe (mapKeyframeInTracking)
+  if (p_.mapping_thread) {  // written back by the tracking thread at its next keyframe (acceptKeyframe)
     std::lock_guard<std::mutex> lk(queue_mutex_);
-    pending_ba_.reset(new PendingBA{std::move(prob), std::move(summary)});
+    pending_ba_.reset(new PendingBA{std::move(prob), std::move(summary), before});
     return;
   }
   auto update = map_->lockUpdates();
-  map_->applyLocalBA(prob, summary);
+  applyLocalBA(prob, summary, map_);
+  recordScaleChange(before, prob);
 }
 
 void LocalMapper::recordScaleChange(double extent_before, const LocalBAProblem& after) {

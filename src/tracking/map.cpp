@@ -1,8 +1,8 @@
-#include <iraf_vo/tracking/map.h>
+#include "iraf_vo/tracking/map.h"
 
 #include <algorithm>
-#include <cstring>
 #include <cmath>
+#include <cstring>
 
 namespace iraf_vo {
 
@@ -171,6 +171,24 @@ void Map::erasePointLocked(long id) {
       k->second->point_id[o.second] = -1;
   }
   points_.erase(it);
+}
+
+void Map::mergePointsLocked(MapPoint* keep, MapPoint* gone) {
+  for (const auto& o : gone->obs) {
+    auto k = keyframes_.find(o.first);
+    if (k == keyframes_.end()) continue;
+    std::vector<long>& ids = k->second->point_id;
+    if (o.second >= static_cast<int>(ids.size()) || ids[o.second] != gone->id) continue;
+    if (keep->obs.count(o.first)) {
+      ids[o.second] = -1;  // the keyframe shows the kept point at another keypoint already
+    } else {
+      ids[o.second] = keep->id;
+      keep->obs[o.first] = o.second;
+    }
+  }
+  keep->visible += gone->visible;
+  keep->found += gone->found;
+  points_.erase(gone->id);
 }
 
 void Map::cullRecentPoints(long current_kf, double min_found_ratio) {

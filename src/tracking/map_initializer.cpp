@@ -1,4 +1,7 @@
-#include <iraf_vo/tracking/map_initializer.h>
+#include "iraf_vo/tracking/map_initializer.h"
+
+#include "iraf_vo/tracking/bundle_adjustment.h"
+#include "iraf_vo/tracking/two_view.h"
 
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-#include <iraf_vo/tracking/matcher.h>
+#include "iraf_vo/tracking/matcher.h"
 
 #include <opencv2/features2d.hpp>
 

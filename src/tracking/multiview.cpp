@@ -1,6 +1,8 @@
-// Multi-view basics (geometry.h): triangulation of bearings, parallax, reprojection error, PnP on bearings.
+// Multi-view basics (multiview.h): triangulation of bearings, parallax, reprojection error, PnP on bearings.
 // ROS-free.
-#include <iraf_vo/tracking/geometry.h>
+#include "iraf_vo/tracking/multiview.h"
+
+#include "iraf_vo/tracking/geometry.h"
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>

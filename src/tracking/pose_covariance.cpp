@@ -1,5 +1,7 @@
-// Pose uncertainty from the pose refinement (geometry.h: poseInformation, worldPoseCovariance). ROS-free.
-#include <iraf_vo/tracking/geometry.h>
+// Pose uncertainty from the pose refinement (pose_covariance.h). ROS-free.
+#include "iraf_vo/tracking/pose_covariance.h"
+
+#include "iraf_vo/tracking/geometry.h"
 
 #include <algorithm>
 

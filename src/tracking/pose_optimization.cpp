@@ -1,12 +1,14 @@
-// Pose-only refinement (geometry.h: optimizePose): Levenberg-Marquardt on 6x6 normal equations with Huber IRLS
+// Pose-only refinement (pose_optimization.h): Levenberg-Marquardt on 6x6 normal equations with Huber IRLS
 // weights, or ceres::Solve on the same model. ROS-free.
-#include <iraf_vo/tracking/geometry.h>
+#include "iraf_vo/tracking/pose_optimization.h"
+
+#include "ceres_blocks.h"
+#include "iraf_vo/tracking/geometry.h"
+#include "iraf_vo/tracking/multiview.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
-
-#include "ceres_blocks.h"
 
 namespace iraf_vo {
 

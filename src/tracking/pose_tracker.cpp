@@ -1,5 +1,9 @@
-#include <iraf_vo/common/wall_clock.h>
-#include <iraf_vo/tracking/pose_tracker.h>
+#include "iraf_vo/tracking/pose_tracker.h"
+
+#include "iraf_vo/common/wall_clock.h"
+#include "iraf_vo/tracking/multiview.h"
+#include "iraf_vo/tracking/pose_covariance.h"
+#include "iraf_vo/tracking/pose_optimization.h"
 
 #include <algorithm>
 #include <cstring>

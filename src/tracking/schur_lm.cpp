@@ -11,7 +11,8 @@
 // end the solve without taking the step that met them.
 #include "schur_lm.h"
 
-#include <iraf_vo/tracking/geometry.h>
+#include "ceres_blocks.h"
+#include "iraf_vo/tracking/geometry.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Dense>
@@ -20,8 +21,6 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-
-#include "ceres_blocks.h"
 
 namespace iraf_vo {
 namespace schur_lm {

@@ -1,12 +1,12 @@
 // Bundle adjustment by Levenberg-Marquardt on the Schur complement (points eliminated, dense reduced camera system).
-// Internal to src/tracking (geometry.cpp: bundleAdjust). The same algorithm as the Ceres configuration it replaces
+// Internal to src/tracking (bundle_adjustment.cpp: bundleAdjust). The same algorithm as the Ceres configuration it replaces
 // (TRUST_REGION, LEVENBERG_MARQUARDT, DENSE_SCHUR, Jacobi scaling, Huber loss, default tolerances and trust-region
 // updates), without Ceres' per-residual cost-function calls, block bookkeeping and problem preprocessing: the
 // rotation of every pose is formed once per evaluation, the Jacobians of a residual go straight into the normal
 // equations. ROS-free.
 #pragma once
 
-#include <iraf_vo/camera/camera_model.h>
+#include "iraf_vo/camera/camera_model.h"
 
 #include <Eigen/Core>
 

@@ -1,15 +1,16 @@
 // The tracker's state machine (tracking thread): initialization -> tracking -> lost -> relocalization or
 // reset. It owns the map, the local mapper, the initializer and the pose tracker and coordinates them
 // (see tracker.h for the whole algorithm).
-#include <iraf_vo/common/wall_clock.h>
-#include <iraf_vo/tracking/tracker.h>
+#include "iraf_vo/tracking/tracker.h"
 
-#include <iraf_vo/tracking/health_monitor.h>
-#include <iraf_vo/tracking/keyframe_policy.h>
-#include <iraf_vo/tracking/local_mapper.h>
-#include <iraf_vo/tracking/map.h>
-#include <iraf_vo/tracking/map_initializer.h>
-#include <iraf_vo/tracking/pose_tracker.h>
+#include "iraf_vo/common/wall_clock.h"
+#include "iraf_vo/tracking/health_monitor.h"
+#include "iraf_vo/tracking/keyframe_policy.h"
+#include "iraf_vo/tracking/local_mapper.h"
+#include "iraf_vo/tracking/map.h"
+#include "iraf_vo/tracking/map_initializer.h"
+#include "iraf_vo/tracking/pose_covariance.h"
+#include "iraf_vo/tracking/pose_tracker.h"
 
 #include <algorithm>
 #include <atomic>
@@ -49,7 +50,6 @@ struct Tracker::Impl {
   Eigen::Isometry3d T_last_rel_kf = Eigen::Isometry3d::Identity();  // T_last_c_w * T_kf_c_w^-1
   Eigen::Isometry3d velocity = Eigen::Isometry3d::Identity();
   bool have_velocity = false;
-  bool map_corrected_before_frame = false;  // a deferred BA result was written back right before this frame
   long last_kf_id = -1;
   int frames_since_kf = 0;
   int consecutive_lost = 0;
@@ -116,7 +116,7 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in) {
       s.initializations++;
       s.keyframes += 2;
     });
-    if (p.mapping_thread && p.ba_deferred_commit) mapper.mapKeyframeInTracking(last_kf_id);
+    mapper.acceptKeyframe(last_kf_id);
     onTracked(cur, &res, true);  // before the mapper can move the keyframe: the last frame follows its BA
     t0 = SteadyClock::now();
     mapper.insertKeyframe(last_kf_id);
@@ -130,12 +130,6 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in) {
   // One tracking step sees one version of the map: a BA result is written back before or after it, never
   // between the pose estimate, the keyframe created from it and T_last_rel_kf (see Map::lockUpdates).
   std::unique_lock<std::mutex> map_update = map.lockUpdates();
-  // Deferred commit, early: the BA started at the last keyframe is written back ba_commit_frames frames after it
-  // (waiting for it there, so the result does not depend on thread timing) instead of at the next keyframe.
-  // The velocity of the motion model was measured on the map before that correction: this frame's deviation from
-  // the prediction says nothing about the camera, so the health monitor's motion checks skip it.
-  map_corrected_before_frame = p.mapping_thread && p.ba_deferred_commit && p.ba_commit_frames > 0 &&
-                               frames_since_kf + 1 == p.ba_commit_frames && mapper.commitPendingBA();
   if (!trackWithMotionModel(cur, &res)) {
     map_update.unlock();
     health.restart();
@@ -149,7 +143,7 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in) {
   const bool new_keyframe = addKeyframeIfNeeded(cur, &res);
   onTracked(cur, &res, res.is_keyframe);
   map_update.unlock();
-  if (new_keyframe) mapper.insertKeyframe(last_kf_id);  // may wait (back-pressure) or map (synchronous)
+  if (new_keyframe) mapper.insertKeyframe(last_kf_id);  // BA: here (synchronous) or on the mapping thread
   res.timing.ms_keyframe = msSince(t0);
   res.timing.ms_total = msSince(t_start);
   return res;
@@ -236,7 +230,7 @@ std::string Tracker::Impl::checkHealth(const Frame& cur, const PoseTrackingResul
   in.refine_matches = r.refine_matches;
   in.median_chi2 = r.median_chi2;
   in.T_w_c = cur.T_c_w.inverse();
-  in.have_motion_model = have_velocity && !map_corrected_before_frame;
+  in.have_motion_model = have_velocity;
   in.T_w_last = T_last.inverse();
   in.T_w_predicted = T_predicted.inverse();
   in.median_depth = r.has_median_depth ? r.median_depth : last_median_depth;
@@ -252,31 +246,13 @@ bool Tracker::Impl::addKeyframeIfNeeded(const Frame& cur, TrackResult* res) {
   KeyframeCandidate c;
   c.frames_since_keyframe = frames_since_kf;
   c.inliers = res->inliers;
-  if (c.frames_since_keyframe >= p.min_frames_between_keyframes) {
+  if (c.frames_since_keyframe >= p.min_frames_between_keyframes)
     c.reference_tracked = map.trackedPoints(last_kf_id, 2);
-    // The mapper's real state is not used: under CPU load it is never idle, keyframes then came only when the
-    // map was already being lost (inliers < keyframe_min_tracked), the map thinned out, keyframes piled up one
-    // per frame with tiny baselines and the monocular scale collapsed in some runs. Like synchronous mapping,
-    // mapping counts as busy for sync_mapping_busy_frames frames after a keyframe; a mapper that falls behind
-    // slows tracking through the queue bound (max_pending_keyframes) instead of changing the keyframes.
-    c.mapping_idle = frames_since_kf >= p.sync_mapping_busy_frames;
-  }
   if (!needNewKeyframe(c, p)) return false;
-  // Deferred commit: the running BA took its snapshot before this keyframe exists (same window every run).
-  if (p.mapping_thread && p.ba_deferred_commit) mapper.waitUntilIdle();
-  last_kf_id = map.addKeyframe(cur);
+  last_kf_id = mapper.addKeyframe(cur);  // mapped right here: the next frames match its new points
   updateStats([](TrackerStats& s) { s.keyframes++; });
   frames_since_kf = 0;
   res->is_keyframe = true;
-  // Threaded mapping: triangulate this keyframe's new points right here (under the map-update lock, never
-  // waiting for BA; the mapping thread then skips the triangulation of this keyframe), so the next frames can
-  // match them, as with synchronous mapping. Left to a mapping thread that lags behind under load, the tracker
-  // ran on a map missing the newest points (fast motion: 100-150 instead of 270-380 inliers), keyframes came
-  // only when the map was being lost and the monocular scale collapsed in some runs.
-  if (p.mapping_thread && p.ba_deferred_commit)
-    mapper.mapKeyframeInTracking(last_kf_id);  // + writes back the previous BA (see LocalMapper)
-  else if (p.mapping_thread && (p.triangulate_in_tracking || res->inliers < p.starving_inliers))
-    mapper.createNewMapPoints(last_kf_id);
   return true;
 }
 

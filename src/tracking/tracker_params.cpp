@@ -1,74 +1,129 @@
-#include <iraf_vo/tracking/tracker_params.h>
-
-#include <cmath>
-#include <utility>
+#include "iraf_vo/tracking/tracker_params.h"
 
 namespace iraf_vo {
 
-std::string validate(const TrackerParams& p) {
-  auto bad = [](const std::string& k, const std::string& why) { return "TrackerParams." + k + ": " + why; };
-  // Fields bounded below only: +inf passed and reached int casts (e.g. search radius / cell -> grid index).
-  for (const auto& kv : {std::make_pair("init_threshold_px", p.init_threshold_px),
-                         std::make_pair("init_min_parallax_deg", p.init_min_parallax_deg),
-                         std::make_pair("init_min_median_parallax_deg", p.init_min_median_parallax_deg),
-                         std::make_pair("search_radius_px", p.search_radius_px),
-                         std::make_pair("search_radius_wide_px", p.search_radius_wide_px),
-                         std::make_pair("search_radius_refine_px", p.search_radius_refine_px),
-                         std::make_pair("pnp_threshold_px", p.pnp_threshold_px),
-                         std::make_pair("min_triangulation_parallax_deg", p.min_triangulation_parallax_deg),
-                         std::make_pair("fuse_radius_px", p.fuse_radius_px),
-                         std::make_pair("ba_max_solver_time_in_seconds", p.ba_max_solver_time_in_seconds),
-                         std::make_pair("ba_huber_delta", p.ba_huber_delta)})
-    if (!std::isfinite(kv.second)) return bad(kv.first, "must be finite");
-  if (p.init_min_features < 8) return bad("init_min_features", "must be >= 8");
-  if (p.init_min_matches < 8) return bad("init_min_matches", "must be >= 8");
-  if (p.init_max_frames < 1) return bad("init_max_frames", "must be >= 1");
-  if (!(p.init_threshold_px > 0)) return bad("init_threshold_px", "must be > 0");
-  if (!(p.init_min_parallax_deg >= 0)) return bad("init_min_parallax_deg", "must be >= 0");
-  if (!(p.init_min_median_parallax_deg >= 0)) return bad("init_min_median_parallax_deg", "must be >= 0");
-  if (p.init_min_parallax_points < 0) return bad("init_min_parallax_points", "must be >= 0");
-  if (p.init_min_triangulated < 8) return bad("init_min_triangulated", "must be >= 8");
-  if (!(p.init_homography_ratio >= 0 && p.init_homography_ratio <= 1)) return bad("init_homography_ratio", "must be in [0, 1]");
-  if (!(p.init_ambiguity_max_chi2 >= 0)) return bad("init_ambiguity_max_chi2", "must be >= 0");
-  if (!(p.init_ambiguity_angle_deg > 0 && p.init_ambiguity_angle_deg <= 90)) return bad("init_ambiguity_angle_deg", "must be in (0, 90]");
-  if (!(p.init_match_ratio > 0 && p.init_match_ratio <= 1)) return bad("init_match_ratio", "must be in (0, 1]");
-  if (p.match_threshold_high < 1 || p.match_threshold_high > 256) return bad("match_threshold_high", "must be in [1, 256]");
-  if (p.match_threshold_low < 1 || p.match_threshold_low > 256) return bad("match_threshold_low", "must be in [1, 256]");
-  if (!(p.match_ratio > 0 && p.match_ratio <= 1)) return bad("match_ratio", "must be in (0, 1]");
-  if (!(p.search_radius_px > 0)) return bad("search_radius_px", "must be > 0");
-  if (!(p.search_radius_wide_px >= p.search_radius_px)) return bad("search_radius_wide_px", "must be >= search_radius_px");
-  if (!(p.search_radius_refine_px > 0)) return bad("search_radius_refine_px", "must be > 0");
-  if (p.min_search_matches < 4) return bad("min_search_matches", "must be >= 4");
-  if (!(p.pnp_threshold_px > 0)) return bad("pnp_threshold_px", "must be > 0");
-  if (p.pnp_iterations < 10) return bad("pnp_iterations", "must be >= 10");
-  if (p.pose_rounds < 1) return bad("pose_rounds", "must be >= 1");
-  if (p.pose_max_iterations < 1) return bad("pose_max_iterations", "must be >= 1");
-  if (p.min_tracking_inliers < 6) return bad("min_tracking_inliers", "must be >= 6");
-  if (!(p.keyframe_tracked_ratio > 0 && p.keyframe_tracked_ratio <= 1)) return bad("keyframe_tracked_ratio", "must be in (0, 1]");
-  if (p.keyframe_min_tracked < 0) return bad("keyframe_min_tracked", "must be >= 0");
-  if (p.min_frames_between_keyframes < 0) return bad("min_frames_between_keyframes", "must be >= 0");
-  if (p.max_frames_between_keyframes < 1) return bad("max_frames_between_keyframes", "must be >= 1");
-  if (p.num_triangulation_neighbors < 1) return bad("num_triangulation_neighbors", "must be >= 1");
-  if (p.fuse_neighbors < 0) return bad("fuse_neighbors", "must be >= 0");
-  if (!(p.fuse_radius_px > 0)) return bad("fuse_radius_px", "must be > 0");
-  if (!(p.min_triangulation_parallax_deg >= 0)) return bad("min_triangulation_parallax_deg", "must be >= 0");
-  if (!(p.min_found_ratio >= 0 && p.min_found_ratio <= 1)) return bad("min_found_ratio", "must be in [0, 1]");
-  if (p.ba_window_size < 2) return bad("ba_window_size", "must be >= 2");
-  if (p.max_map_keyframes < p.ba_window_size) return bad("max_map_keyframes", "must be >= ba_window_size");
-  if (p.ba_max_num_iterations < 0) return bad("ba_max_num_iterations", "must be >= 0");
-  if (!(p.ba_max_solver_time_in_seconds > 0)) return bad("ba_max_solver_time_in_seconds", "must be > 0");
-  if (!(p.ba_huber_delta > 0)) return bad("ba_huber_delta", "must be > 0");
-  if (p.starving_inliers < 0) return bad("starving_inliers", "must be >= 0");
-  if (p.ba_commit_frames < 0) return bad("ba_commit_frames", "must be >= 0");
-  if (p.sync_mapping_busy_frames < 0) return bad("sync_mapping_busy_frames", "must be >= 0");
-  if (p.lost_frames_before_reset < 0) return bad("lost_frames_before_reset", "must be >= 0");
-  if (!(p.health_min_inlier_ratio >= 0 && p.health_min_inlier_ratio <= 1)) return bad("health_min_inlier_ratio", "must be in [0, 1]");
-  if (!(p.health_max_median_chi2 > 0 && std::isfinite(p.health_max_median_chi2))) return bad("health_max_median_chi2", "must be > 0 and finite");
-  if (!(p.health_max_accel_ratio > 0 && std::isfinite(p.health_max_accel_ratio))) return bad("health_max_accel_ratio", "must be > 0 and finite");
-  if (!(p.health_min_accel_depth >= 0 && std::isfinite(p.health_min_accel_depth))) return bad("health_min_accel_depth", "must be >= 0 and finite");
-  if (!(p.health_max_rot_accel_deg > 0 && std::isfinite(p.health_max_rot_accel_deg))) return bad("health_max_rot_accel_deg", "must be > 0 and finite");
-  if (!(p.health_max_ba_scale_change > 1 && std::isfinite(p.health_max_ba_scale_change))) return bad("health_max_ba_scale_change", "must be > 1 and finite");
-  return "";
+namespace {
+
+/// The rules between TrackerParams fields (each field's own range is its table row).
+std::string crossFieldRule(const TrackerParams& p) {
+  std::string out;
+  if (!(p.search_radius_wide_px >= p.search_radius_px))
+    out += "search_radius_wide_px must be >= search_radius_px (got " + formatDouble(p.search_radius_wide_px) + " < " +
+           formatDouble(p.search_radius_px) + ")";
+  if (p.max_map_keyframes < p.ba_window_size)
+    out += std::string(out.empty() ? "" : "; ") + "max_map_keyframes must be >= ba_window_size (got " +
+           std::to_string(p.max_map_keyframes) + " < " + std::to_string(p.ba_window_size) + ")";
+  return out;
 }
+
+}  // namespace
+
+const ParamTable<TrackerParams>& trackerParamTable() {
+  using P = TrackerParams;
+  static const ParamTable<P> table(
+      "tracker",
+      {
+          intParam("init_min_features", &P::init_min_features, 8, 10000, "Keypoints a reference frame needs"),
+          intParam("init_min_matches", &P::init_min_matches, 8, 10000,
+                   "Fewer matches to the reference -> new reference"),
+          intParam("init_max_frames", &P::init_max_frames, 1, 1000, "Reference older than this -> new reference"),
+          doubleParam("init_threshold_px", &P::init_threshold_px, 0.1, 10.0, "H / E RANSAC and scoring threshold [px]"),
+          doubleParam("init_min_parallax_deg", &P::init_min_parallax_deg, 0.0, 20.0,
+                      "Parallax the init_min_parallax_points-th most parallax-rich triangulated point needs [deg]"),
+          intParam("init_min_parallax_points", &P::init_min_parallax_points, 0, 10000,
+                   "Parallax test: this many triangulated points (all if fewer) need init_min_parallax_deg "
+                   "(ORB-SLAM 50); 0 = the median point"),
+          doubleParam("init_min_median_parallax_deg", &P::init_min_median_parallax_deg, 0.0, 20.0,
+                      "Parallax test: the median triangulated point also needs this parallax [deg]"),
+          intParam("init_min_triangulated", &P::init_min_triangulated, 8, 10000, "Points the initial map needs"),
+          doubleParam("init_homography_ratio", &P::init_homography_ratio, 0.0, 1.0,
+                      "R_H = S_H / (S_H + S_F) above this -> homography (ORB-SLAM 0.45)"),
+          doubleParam("init_ambiguity_max_chi2", &P::init_ambiguity_max_chi2, 0.0, 1000.0,
+                      "Essential-matrix init refused while a translation >= init_ambiguity_angle_deg away has a "
+                      "profile chi2 below this (noise units; 0 = no check)"),
+          doubleParam("init_ambiguity_angle_deg", &P::init_ambiguity_angle_deg, 1.0, 90.0,
+                      "Translation directions this far from the chosen one count as another motion [deg]"),
+          doubleParam("init_match_ratio", &P::init_match_ratio, 0.1, 1.0, "Lowe ratio of the initialization matching"),
+          intParam("match_threshold_high", &P::match_threshold_high, 1, 256,
+                   "Hamming threshold of the projection search (ORB-SLAM TH_HIGH)"),
+          intParam("match_threshold_low", &P::match_threshold_low, 1, 256,
+                   "Hamming threshold of triangulation matching (ORB-SLAM TH_LOW)"),
+          doubleParam("match_ratio", &P::match_ratio, 0.1, 1.0,
+                      "Best / second best in the projection search (same octave)"),
+          doubleParam("search_radius_px", &P::search_radius_px, 1.0, 400.0,
+                      "Projection search window at octave 0 [px] (x scale_factor^octave of the features)"),
+          doubleParam("search_radius_wide_px", &P::search_radius_wide_px, 1.0, 1000.0,
+                      "Fallback window when too few matches [px]"),
+          doubleParam("search_radius_refine_px", &P::search_radius_refine_px, 0.5, 100.0,
+                      "Second pass after the pose refinement [px]"),
+          intParam("min_search_matches", &P::min_search_matches, 4, 10000,
+                   "Fewer -> wider window, then brute force + PnP"),
+          boolParam("check_orientation", &P::check_orientation,
+                    "Rotation-consistency histogram in brute-force matching"),
+          boolParam("predict_scale", &P::predict_scale,
+                    "Projection searches at the octave the point's image scale predicts, skipping views > 60 deg off"),
+          doubleParam("pnp_threshold_px", &P::pnp_threshold_px, 0.1, 50.0, "PnP RANSAC threshold [px]"),
+          intParam("pnp_iterations", &P::pnp_iterations, 10, 10000, "PnP RANSAC iterations"),
+          intParam("pose_rounds", &P::pose_rounds, 1, 10, "Pose refinement rounds (solve, chi2 outlier test)"),
+          intParam("pose_max_iterations", &P::pose_max_iterations, 1, 100, "LM iterations per round"),
+          boolParam("pose_use_ceres", &P::pose_use_ceres,
+                    "Pose-only refinement with ceres::Solve instead of the 6x6 LM"),
+          intParam("min_tracking_inliers", &P::min_tracking_inliers, 6, 10000, "Fewer inliers -> frame lost"),
+          doubleParam("keyframe_tracked_ratio", &P::keyframe_tracked_ratio, 0.01, 1.0,
+                      "New keyframe when inliers < ratio x reference keyframe's points (ORB-SLAM mono 0.9)"),
+          intParam("keyframe_min_tracked", &P::keyframe_min_tracked, 0, 10000,
+                   "New keyframe when inliers drop below this"),
+          intParam("min_frames_between_keyframes", &P::min_frames_between_keyframes, 0, 1000,
+                   "Minimum frames between keyframes"),
+          intParam("max_frames_between_keyframes", &P::max_frames_between_keyframes, 1, 1000,
+                   "Keyframe timeout [frames]"),
+          boolParam("mapping_thread", &P::mapping_thread,
+                    "Mapping mode: BA on its own thread, written back at the next keyframe (false: inside track()); both deterministic"),
+          intParam("mapping_busy_frames", &P::mapping_busy_frames, 0, 100,
+                   "Keyframe rule: mapping counts as busy this many frames after a keyframe (both mapping modes)"),
+          intParam("num_triangulation_neighbors", &P::num_triangulation_neighbors, 1, 50,
+                   "Covisible keyframes used for new points"),
+          doubleParam("min_triangulation_parallax_deg", &P::min_triangulation_parallax_deg, 0.0, 30.0,
+                      "Minimum parallax of a new point [deg]"),
+          doubleParam("min_found_ratio", &P::min_found_ratio, 0.0, 1.0,
+                      "Cull recent points found in fewer than this fraction of the frames that saw them"),
+          intParam("fuse_neighbors", &P::fuse_neighbors, 0, 50,
+                   "Map-point fusion with this many most covisible keyframes per new keyframe (0 = off)"),
+          doubleParam("fuse_radius_px", &P::fuse_radius_px, 0.5, 50.0,
+                      "Fusion search window at octave 0 [px] (times scale_factor^octave)"),
+          intParam("ba_window_size", &P::ba_window_size, 2, 100, "Keyframes optimized by the sliding-window BA"),
+          intParam("max_map_keyframes", &P::max_map_keyframes, 2, 1000,
+                   "Keyframes kept in the map (older are dropped; >= ba_window_size)"),
+          intParam("ba_max_num_iterations", &P::ba_max_num_iterations, 0, 200, "Levenberg-Marquardt iterations per BA"),
+          doubleParam("ba_max_solver_time_in_seconds", &P::ba_max_solver_time_in_seconds, 0.001, 10.0,
+                      "BA budget per run [s of the mapping thread's CPU time]"),
+          doubleParam("ba_min_fixed_span", &P::ba_min_fixed_span, 0.0, 1.0,
+                      "Gauge: fixed keyframe centres must span this fraction of the window extent"),
+          doubleParam("ba_huber_delta", &P::ba_huber_delta, 0.1, 100.0,
+                      "Huber threshold on the sigma-normalized residual (sqrt(5.991))"),
+          boolParam("ba_use_ceres", &P::ba_use_ceres,
+                    "Every BA (initialization, local) with ceres::Solve instead of the equivalent Schur-complement LM"),
+          intParam("lost_frames_before_reset", &P::lost_frames_before_reset, 0, 1000,
+                   "Consecutive lost frames (relocalization attempts) before the map is reset"),
+          boolParam("health_monitor", &P::health_monitor,
+                    "Reject untrustworthy poses (reported lost, never tracking)"),
+          doubleParam("health_min_inlier_ratio", &P::health_min_inlier_ratio, 0.0, 1.0,
+                      "Inliers / matches of the final pose refinement"),
+          doubleParam("health_max_median_chi2", &P::health_max_median_chi2, 0.1, 100.0,
+                      "Median sigma-normalized squared reprojection error of the inliers"),
+          doubleParam("health_max_accel_ratio", &P::health_max_accel_ratio, 0.1, 100.0,
+                      "Velocity / rotation-rate change limit, x the median of the last frames"),
+          doubleParam("health_min_accel_depth", &P::health_min_accel_depth, 0.0, 10.0,
+                      "Motion-model deviation floor, x the median scene depth"),
+          doubleParam("health_max_rot_accel_deg", &P::health_max_rot_accel_deg, 0.1, 180.0,
+                      "Rotation-rate change floor [deg / frame]"),
+          doubleParam("health_max_ba_scale_change", &P::health_max_ba_scale_change, 1.01, 100.0,
+                      "Local BA may change the window extent by at most this factor"),
+      },
+      crossFieldRule, "search_radius_wide_px >= search_radius_px; max_map_keyframes >= ba_window_size");
+  return table;
+}
+
+std::string validate(const TrackerParams& p) { return trackerParamTable().validate(p); }
 
 }  // namespace iraf_vo

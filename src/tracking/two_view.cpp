@@ -1,7 +1,10 @@
-// Two-view initialization (geometry.h): E and H by RANSAC, ORB-SLAM model selection and scores, decomposition
+// Two-view initialization (two_view.h): E and H by RANSAC, ORB-SLAM model selection and scores, decomposition
 // into (R, t) hypotheses checked by triangulation, and a two-view BA. ROS-free.
-#include <iraf_vo/tracking/geometry.h>
-#include <iraf_vo/tracking/two_view_ambiguity.h>
+#include "iraf_vo/tracking/two_view.h"
+
+#include "iraf_vo/tracking/bundle_adjustment.h"
+#include "iraf_vo/tracking/multiview.h"
+#include "iraf_vo/tracking/two_view_ambiguity.h"
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>

@@ -22,10 +22,10 @@
 #include "iraf_vo/FeaturesConfig.h"
 #include "iraf_vo/EnhanceConfig.h"
 #include "iraf_vo/TrackerConfig.h"
-#include "iraf_vo/enhance/enhance_params_io.h"
+#include "iraf_vo/enhance/enhance_params.h"
 #include "iraf_vo/features/feature_params.h"
 #include "iraf_vo/ros/feature_conversion.h"
-#include "iraf_vo/tracking/tracker_params_io.h"
+#include "iraf_vo/tracking/tracker_params.h"
 #include "../../src/nodelets/param_bridge.h"
 
 namespace enc = sensor_msgs::image_encodings;

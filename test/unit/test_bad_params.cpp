@@ -12,11 +12,11 @@
 
 #include "common/test_data.h"
 #include "iraf_vo/camera/camera_loader.h"
-#include "iraf_vo/enhance/enhance_params_io.h"
+#include "iraf_vo/enhance/enhance_params.h"
 #include "iraf_vo/enhance/enhancer.h"
 #include "iraf_vo/features/feature_extractor.h"
 #include "iraf_vo/tracking/tracker.h"
-#include "iraf_vo/tracking/tracker_params_io.h"
+#include "iraf_vo/tracking/tracker_params.h"
 
 using namespace iraf_vo;
 
@@ -101,48 +101,29 @@ TEST(BadStageInput, EnhanceParamsOutOfRangeAreRejectedByValidate) {
   }
 }
 
-// Extreme but valid() feature params (each field at the largest value validate() accepts) on a textured image:
-// no crash, no throw, no sanitizer report (run under ASan + UBSan by scripts/test.sh in CI).
+// Extreme but valid() feature params (each field at either end of its table range, then all at the top) on a
+// textured image: no crash, no throw, no sanitizer report (run under ASan + UBSan by scripts/test.sh in CI).
 TEST(BadStageInput, FeatureExtractorExtremeValidParams) {
   const cv::Mat img = iraf_vo_test::texturedImage(160, 120);
   FeatureExtractor fx;
-  const int big = std::numeric_limits<int>::max();  // odd
+  const ParamTable<FeatureParams>& table = featureParamTable();
   std::vector<std::pair<std::string, FeatureParams>> cases;
-  FeatureParams p;
-  p.n_features = big;
-  cases.emplace_back("n_features", p);
-  p = FeatureParams();
-  p.cell_size = big;
-  cases.emplace_back("cell_size", p);
-  p = FeatureParams();
-  p.center_window = big;
-  cases.emplace_back("center_window", p);
-  p = FeatureParams();
-  p.min_node_size = big;
-  cases.emplace_back("min_node_size", p);
-  p = FeatureParams();
-  p.contrast_patch_size = big;
-  cases.emplace_back("contrast_patch_size", p);
-  p = FeatureParams();
-  p.min_features = big;
-  cases.emplace_back("min_features", p);
-  p = FeatureParams();
-  p.n_levels = 32;
-  p.scale_factor = 4.0;
-  cases.emplace_back("n_levels/scale_factor", p);
-  p = FeatureParams();
-  p.alpha = p.beta = p.delta = 1e300;
-  cases.emplace_back("alpha/beta/delta", p);
-  p = FeatureParams();
-  p.rho = p.h_th = p.k = p.d_opt = 1e300;
-  p.w1 = -1e300;
-  cases.emplace_back("culling weights", p);
-  // n_features = INT_MAX used to pass validate() and throw std::length_error from vector::reserve(4 * n)
-  // (signed overflow first): now rejected by validate().
-  EXPECT_NE(validate(cases[0].second).find("n_features"), std::string::npos);
+  FeatureParams top;
+  for (const auto& e : table.entries()) {
+    for (const bool max : {false, true}) {
+      FeatureParams p;
+      if (e.type == ParamType::kInt) p.*(e.int_field) = static_cast<int>(max ? e.max : e.min);
+      else if (e.type == ParamType::kDouble) p.*(e.double_field) = max ? e.max : e.min;
+      else continue;
+      cases.emplace_back(e.name + (max ? " max" : " min"), p);
+    }
+    if (e.type == ParamType::kInt) top.*(e.int_field) = static_cast<int>(e.max);
+    if (e.type == ParamType::kDouble) top.*(e.double_field) = e.max;
+  }
+  cases.emplace_back("all at max", top);
   for (const auto& [name, q] : cases) {
     SCOPED_TRACE(name);
-    if (!validate(q).empty()) continue;  // rejected up front: also fine
+    ASSERT_EQ(validate(q), "");  // the ends of every range are valid
     FeatureFrame f;
     EXPECT_NO_THROW(f = fx.extract(img, 0.0, q));
     EXPECT_EQ(f.descriptors.rows, static_cast<int>(f.keypoints.size()));
@@ -150,6 +131,12 @@ TEST(BadStageInput, FeatureExtractorExtremeValidParams) {
       EXPECT_TRUE(k.pt.x >= 0 && k.pt.y >= 0 && k.pt.x < img.cols && k.pt.y < img.rows) << k.pt;
     }
   }
+  // n_features = INT_MAX used to pass validate() and throw std::length_error from vector::reserve(4 * n)
+  // (signed overflow first): now outside its range.
+  FeatureParams huge;
+  huge.n_features = std::numeric_limits<int>::max();
+  EXPECT_NE(validate(huge).find("n_features"), std::string::npos);
+  EXPECT_THROW(fx.extract(img, 0.0, huge), std::invalid_argument);
 }
 
 // TrackerParams: fields with only a lower bound accepted +inf (validate() said ""), which then reached int
@@ -173,25 +160,25 @@ TEST(BadStageInput, TrackerParamsRejectInfinity) {
 }
 
 // Found by fuzz_params_yaml: a params map with a non-scalar key ("? ? 4", a map as key) made
-// loadTrackerParams (and loadEnhanceParams, same code) throw YAML::TypedBadConversion instead of returning false.
+// trackerParamTable().load (and the other tables, same code) throw YAML::TypedBadConversion instead of returning false.
 TEST(BadParamsYaml, NonScalarKeyIsAnErrorNotAnException) {
   const YAML::Node node = YAML::Load("? ? 4");
   ASSERT_TRUE(node.IsMap());
   std::string err;
   TrackerParams tp;
   bool ok = true;
-  EXPECT_NO_THROW(ok = loadTrackerParams(node, &tp, &err));
+  EXPECT_NO_THROW(ok = trackerParamTable().load(node, &tp, &err));
   EXPECT_FALSE(ok);
   EXPECT_FALSE(err.empty());
   EnhanceParams ep;
   err.clear();
   ok = true;
-  EXPECT_NO_THROW(ok = loadEnhanceParams(node, &ep, &err));
+  EXPECT_NO_THROW(ok = enhanceParamTable().load(node, &ep, &err));
   EXPECT_FALSE(ok);
   EXPECT_FALSE(err.empty());
   FeatureParams fp;
   err.clear();
   ok = true;
-  EXPECT_NO_THROW(ok = loadFeatureParams(node, &fp, &err));
+  EXPECT_NO_THROW(ok = featureParamTable().load(node, &fp, &err));
   EXPECT_FALSE(ok);
 }

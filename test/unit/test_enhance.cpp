@@ -268,36 +268,36 @@ TEST(Enhancer, ComparisonMethodsMatchOpenCv) {
 
 #include <yaml-cpp/yaml.h>
 
-#include "iraf_vo/enhance/enhance_params_io.h"
+#include "iraf_vo/enhance/enhance_params.h"
 
 TEST(EnhanceParamsIo, SetsEveryFieldByNameAndRejectsUnknownOrBadValues) {
   EnhanceParams p;
   std::string err;
-  EXPECT_TRUE(setEnhanceParam(&p, "mu_expected", "50", &err)) << err;
+  EXPECT_TRUE(enhanceParamTable().set(&p, "mu_expected", "50", &err)) << err;
   EXPECT_DOUBLE_EQ(p.mu_expected, 50.0);
-  EXPECT_TRUE(setEnhanceParam(&p, "method", "clahe", &err)) << err;
+  EXPECT_TRUE(enhanceParamTable().set(&p, "method", "clahe", &err)) << err;
   EXPECT_EQ(p.method, EnhanceMethod::kClahe);
-  EXPECT_TRUE(setEnhanceParam(&p, "gaussian_kernel_size", "7", &err)) << err;
+  EXPECT_TRUE(enhanceParamTable().set(&p, "gaussian_kernel_size", "7", &err)) << err;
   EXPECT_EQ(p.gaussian_kernel_size, 7);
-  EXPECT_FALSE(setEnhanceParam(&p, "gaussian_kernel_size", "7.5", &err));
-  EXPECT_FALSE(setEnhanceParam(&p, "eta", "nan", &err));
-  EXPECT_FALSE(setEnhanceParam(&p, "muexpected", "50", &err));
+  EXPECT_FALSE(enhanceParamTable().set(&p, "gaussian_kernel_size", "7.5", &err));
+  EXPECT_FALSE(enhanceParamTable().set(&p, "eta", "nan", &err));
+  EXPECT_FALSE(enhanceParamTable().set(&p, "muexpected", "50", &err));
   EXPECT_NE(err.find("muexpected"), std::string::npos);
   // Every advertised name is settable.
-  for (const auto& n : enhanceParamNames()) {
+  for (const auto& n : enhanceParamTable().names()) {
     EnhanceParams q;
-    EXPECT_TRUE(setEnhanceParam(&q, n, n == "method" ? "he" : "3", &err)) << n << ": " << err;
+    EXPECT_TRUE(enhanceParamTable().set(&q, n, n == "method" ? "he" : "3", &err)) << n << ": " << err;
   }
 }
 
 TEST(EnhanceParamsIo, LoadsYamlMapAndValidates) {
   EnhanceParams p;
   std::string err;
-  EXPECT_TRUE(loadEnhanceParams(YAML::Load("{mu_expected: 80, eta: 0.5, method: iraf}"), &p, &err)) << err;
+  EXPECT_TRUE(enhanceParamTable().load(YAML::Load("{mu_expected: 80, eta: 0.5, method: iraf}"), &p, &err)) << err;
   EXPECT_DOUBLE_EQ(p.mu_expected, 80.0);
   EXPECT_DOUBLE_EQ(p.eta, 0.5);
-  EXPECT_FALSE(loadEnhanceParams(YAML::Load("{gaussian_kernel_size: 4}"), &p, &err));
+  EXPECT_FALSE(enhanceParamTable().load(YAML::Load("{gaussian_kernel_size: 4}"), &p, &err));
   EXPECT_NE(err.find("gaussian_kernel_size"), std::string::npos);
-  EXPECT_FALSE(loadEnhanceParams(YAML::Load("{typo_key: 1}"), &p, &err));
-  EXPECT_FALSE(loadEnhanceParams(YAML::Load("[1, 2]"), &p, &err));
+  EXPECT_FALSE(enhanceParamTable().load(YAML::Load("{typo_key: 1}"), &p, &err));
+  EXPECT_FALSE(enhanceParamTable().load(YAML::Load("[1, 2]"), &p, &err));
 }

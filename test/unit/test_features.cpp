@@ -365,20 +365,20 @@ TEST(Extractor, RejectsBadInput) {
 TEST(FeatureParamsYaml, LoadsValidatesAndNamesUnknownKeys) {
   FeatureParams p;
   std::string err;
-  ASSERT_TRUE(loadFeatureParams(YAML::Load("{n_features: 1500, adaptive_threshold: false, alpha: 2.5}"), &p, &err)) << err;
+  ASSERT_TRUE(featureParamTable().load(YAML::Load("{n_features: 1500, adaptive_threshold: false, alpha: 2.5}"), &p, &err)) << err;
   EXPECT_EQ(p.n_features, 1500);
   EXPECT_FALSE(p.adaptive_threshold);
   EXPECT_DOUBLE_EQ(p.alpha, 2.5);
   EXPECT_DOUBLE_EQ(p.beta, FeatureParams().beta);
 
   FeatureParams q;
-  EXPECT_FALSE(loadFeatureParams(YAML::Load("{n_featurez: 10}"), &q, &err));
+  EXPECT_FALSE(featureParamTable().load(YAML::Load("{n_featurez: 10}"), &q, &err));
   EXPECT_NE(err.find("n_featurez"), std::string::npos) << err;
-  EXPECT_FALSE(loadFeatureParams(YAML::Load("{n_features: many}"), &q, &err));
+  EXPECT_FALSE(featureParamTable().load(YAML::Load("{n_features: many}"), &q, &err));
   EXPECT_NE(err.find("n_features"), std::string::npos) << err;
-  EXPECT_FALSE(loadFeatureParams(YAML::Load("{scale_factor: 0.5}"), &q, &err));
+  EXPECT_FALSE(featureParamTable().load(YAML::Load("{scale_factor: 0.5}"), &q, &err));
   EXPECT_NE(err.find("scale_factor"), std::string::npos) << err;
-  EXPECT_FALSE(loadFeatureParams(YAML::Load("[1, 2]"), &q, &err));
+  EXPECT_FALSE(featureParamTable().load(YAML::Load("[1, 2]"), &q, &err));
   EXPECT_EQ(q.n_features, FeatureParams().n_features);  // untouched on failure
   EXPECT_TRUE(validate(FeatureParams()).empty());
 }

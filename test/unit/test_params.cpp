@@ -1,8 +1,9 @@
-// Parameter tables (common/param_table.h): per stage, cfg/<Stage>.cfg == table == struct defaults; the table's
-// text / YAML loading. The cfg files are parsed as text (the generator's gen.add(...) / group.add(...) lines).
+// Parameter tables (common/param_table.h): per stage, cfg/<Stage>.cfg == table == struct defaults; validation from
+// the table's ranges; the table's text / YAML loading. The cfg files are parsed as text (the generator's gen.add(...) / group.add(...) lines).
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <limits>
@@ -11,9 +12,9 @@
 #include <set>
 #include <sstream>
 
-#include "iraf_vo/enhance/enhance_params_io.h"
+#include "iraf_vo/enhance/enhance_params.h"
 #include "iraf_vo/features/feature_params.h"
-#include "iraf_vo/tracking/tracker_params_io.h"
+#include "iraf_vo/tracking/tracker_params.h"
 
 using namespace iraf_vo;
 
@@ -110,6 +111,33 @@ void expectTextRoundTrip(const ParamTable<S>& table) {
   }
 }
 
+/// Each int / double row: both ends of its range pass the row's check; a value just below and just above it makes
+/// the stage's validate() name the row and its range; an odd row rejects an even value.
+template <class S>
+void expectValidationFollowsTheTable(const ParamTable<S>& table, std::string (*validate_stage)(const S&)) {
+  ASSERT_EQ(validate_stage(S{}), "") << table.section();
+  for (const ParamEntry<S>& e : table.entries()) {
+    if (e.type != ParamType::kInt && e.type != ParamType::kDouble) continue;
+    const auto with = [&e](double v) {
+      S p{};
+      if (e.type == ParamType::kInt) p.*(e.int_field) = static_cast<int>(v);
+      else p.*(e.double_field) = v;
+      return p;
+    };
+    for (double end : {e.min, e.max}) EXPECT_EQ(table.checkRange(with(end), e), "") << e.name << " = " << end;
+    const bool is_int = e.type == ParamType::kInt;
+    const double inf = std::numeric_limits<double>::infinity();
+    for (double v : {is_int ? e.min - 1 : std::nextafter(e.min, -inf), is_int ? e.max + 1 : std::nextafter(e.max, inf)}) {
+      const std::string msg = validate_stage(with(v));
+      EXPECT_NE(msg.find(e.name + " must be " + table.rangeText(e) + " (got "), std::string::npos)
+          << e.name << " = " << v << ": '" << msg << "'";
+    }
+    if (e.odd) {
+      EXPECT_NE(validate_stage(with(e.min + 1)).find(e.name + " must be odd"), std::string::npos) << e.name;
+    }
+  }
+}
+
 }  // namespace
 
 TEST(ParamTables, EnhanceCfgEqualsTableEqualsStruct) {
@@ -177,10 +205,46 @@ TEST(ParamTables, YamlLoadNamesTheKeyAndIsAllOrNothing) {
 TEST(ParamTables, EnumEntriesTakeTheEnumNames) {
   EnhanceParams p;
   std::string err;
-  ASSERT_TRUE(setEnhanceParam(&p, "method", "clahe", &err)) << err;
+  ASSERT_TRUE(enhanceParamTable().set(&p, "method", "clahe", &err)) << err;
   EXPECT_EQ(p.method, EnhanceMethod::kClahe);
-  EXPECT_FALSE(setEnhanceParam(&p, "method", "fancy", &err));
+  EXPECT_FALSE(enhanceParamTable().set(&p, "method", "fancy", &err));
   EXPECT_NE(err.find("fancy"), std::string::npos) << err;
   EXPECT_EQ(p.method, EnhanceMethod::kClahe);
   EXPECT_EQ(enhanceParamTable().get(p, *enhanceParamTable().find("method")), "clahe");
+}
+
+TEST(ParamValidation, EveryRowRejectsValuesOutsideItsRange) {
+  expectValidationFollowsTheTable<EnhanceParams>(enhanceParamTable(), validate);
+  expectValidationFollowsTheTable<FeatureParams>(featureParamTable(), validate);
+  expectValidationFollowsTheTable<TrackerParams>(trackerParamTable(), validate);
+}
+
+// The messages, spelled out: the parameter, its range, the value. Values the hand-written checks accepted
+// (n_features 20, rho -1) are outside the table ranges and now rejected.
+TEST(ParamValidation, MessagesNameTheParameterAndItsRange) {
+  EnhanceParams e;
+  e.gaussian_kernel_size = 4;
+  e.eta = -0.5;
+  EXPECT_EQ(validate(e), "gaussian_kernel_size must be odd and in [1, 15] (got 4); eta must be in [0, 5] (got -0.5)");
+  FeatureParams f;
+  f.n_features = 20;
+  f.rho = -1;
+  EXPECT_EQ(validate(f), "n_features must be in [50, 10000] (got 20); rho must be in [0, 10] (got -1)");
+  TrackerParams t;
+  t.ba_window_size = 1;
+  EXPECT_EQ(validate(t), "ba_window_size must be in [2, 100] (got 1)");
+  std::string err;
+  EXPECT_FALSE(trackerParamTable().validateInto(t, &err));
+  EXPECT_EQ(err, "invalid tracker parameters: ba_window_size must be in [2, 100] (got 1)");
+}
+
+TEST(ParamValidation, TrackerCrossFieldRules) {
+  TrackerParams t;
+  t.search_radius_wide_px = 10;  // < search_radius_px 15, each in its own range
+  EXPECT_EQ(validate(t), "search_radius_wide_px must be >= search_radius_px (got 10 < 15)");
+  t = TrackerParams();
+  t.ba_window_size = 30;  // > max_map_keyframes 25
+  EXPECT_EQ(validate(t), "max_map_keyframes must be >= ba_window_size (got 25 < 30)");
+  t.max_map_keyframes = 30;
+  EXPECT_EQ(validate(t), "");
 }

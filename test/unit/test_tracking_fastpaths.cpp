@@ -1,4 +1,10 @@
 // The tracker's fast paths against the plain computations they replace (same results, same order).
+#include "iraf_vo/tracking/bundle_adjustment.h"
+#include "iraf_vo/tracking/frame.h"
+#include "iraf_vo/tracking/multiview.h"
+#include "iraf_vo/tracking/pose_optimization.h"
+#include "tracking_test_utils.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -6,10 +12,6 @@
 #include <memory>
 #include <random>
 #include <tuple>
-
-#include "iraf_vo/tracking/frame.h"
-#include "iraf_vo/tracking/geometry.h"
-#include "tracking_test_utils.h"
 
 using namespace iraf_vo;
 

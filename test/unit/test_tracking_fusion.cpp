@@ -1,15 +1,14 @@
-// Map-point fusion (Map::fusionTargets / Matcher::searchForFusion / Map::fuse, as LocalMapper runs them): a
+// Map-point fusion (fusionTargets / Matcher::searchForFusion / applyFusion, as LocalMapper runs them): a
 // hand-built map where the newest keyframe missed points the older keyframes observe, some of them triangulated
 // again as duplicates. Fusion must link the missed keypoints, merge the duplicates into the older points, and
 // leave keypoints whose descriptor or position does not fit alone.
-#include <iraf_vo/tracking/local_mapper.h>
-#include <iraf_vo/tracking/map.h>
-#include <iraf_vo/tracking/matcher.h>
-
-#include <gtest/gtest.h>
-
+#include "iraf_vo/tracking/local_mapper.h"
+#include "iraf_vo/tracking/map.h"
+#include "iraf_vo/tracking/map_fusion.h"
+#include "iraf_vo/tracking/matcher.h"
 #include "unit/tracking_test_utils.h"
 
+#include <gtest/gtest.h>
 
 namespace iraf_vo {
 namespace {
@@ -86,14 +85,14 @@ TEST(MapFusion, LinksMissedKeypointsAndMergesDuplicates) {
   p.fuse_neighbors = 6;  // off by default (docs/decisions.md: measured, not adopted)
   Matcher matcher(s.cam, p);
   std::vector<FusionLink> links;
-  const std::vector<FusionTarget> targets = s.map.fusionTargets(kf3, p.fuse_neighbors);
+  const std::vector<FusionTarget> targets = fusionTargets(s.map, kf3, p.fuse_neighbors);
   ASSERT_FALSE(targets.empty());
   EXPECT_EQ(targets[0].keyframe->id, kf3) << "the new keyframe first";
   for (const FusionTarget& t : targets) {
     const auto l = matcher.searchForFusion(t, p.fuse_radius_px);
     links.insert(links.end(), l.begin(), l.end());
   }
-  const std::pair<int, int> r = s.map.fuse(links);
+  const std::pair<int, int> r = applyFusion(links, &s.map);
   EXPECT_EQ(r.second, 30) << "every duplicate merged";
   EXPECT_EQ(r.first, 20) << "keypoints 90-99 and 110-119 of kf3 got their point";
   EXPECT_EQ(s.map.numPoints(), static_cast<size_t>(kN));

@@ -1,9 +1,12 @@
 // Two-view initialization, PnP, pose refinement and sliding-window BA on synthetic data, with a pinhole and an
 // equidistant fisheye model.
-#include <gtest/gtest.h>
-#include <iraf_vo/tracking/geometry.h>
-
+#include "iraf_vo/tracking/bundle_adjustment.h"
+#include "iraf_vo/tracking/multiview.h"
+#include "iraf_vo/tracking/pose_optimization.h"
+#include "iraf_vo/tracking/two_view.h"
 #include "unit/tracking_test_utils.h"
+
+#include <gtest/gtest.h>
 
 using namespace iraf_vo;
 using namespace iraf_vo::test;

@@ -1,7 +1,7 @@
 // TrackerParams: validation and YAML loading.
 #include <gtest/gtest.h>
 #include <iraf_vo/tracking/tracker.h>
-#include <iraf_vo/tracking/tracker_params_io.h>
+#include <iraf_vo/tracking/tracker_params.h>
 #include <yaml-cpp/yaml.h>
 
 
@@ -21,17 +21,17 @@ TEST(TrackerParams, DefaultsValidateAndBadValuesAreNamed) {
 TEST(TrackerParams, YamlLoading) {
   TrackerParams p;
   std::string err;
-  ASSERT_TRUE(loadTrackerParams(YAML::Load("{ba_window_size: 7, mapping_thread: false, search_radius_px: 12.5}"), &p, &err))
+  ASSERT_TRUE(trackerParamTable().load(YAML::Load("{ba_window_size: 7, mapping_thread: false, search_radius_px: 12.5}"), &p, &err))
       << err;
   EXPECT_EQ(p.ba_window_size, 7);
   EXPECT_FALSE(p.mapping_thread);
   EXPECT_DOUBLE_EQ(p.search_radius_px, 12.5);
   TrackerParams q;
-  EXPECT_FALSE(loadTrackerParams(YAML::Load("{no_such_key: 1}"), &q, &err));
+  EXPECT_FALSE(trackerParamTable().load(YAML::Load("{no_such_key: 1}"), &q, &err));
   EXPECT_NE(err.find("no_such_key"), std::string::npos);
-  EXPECT_FALSE(loadTrackerParams(YAML::Load("{ba_window_size: abc}"), &q, &err));
+  EXPECT_FALSE(trackerParamTable().load(YAML::Load("{ba_window_size: abc}"), &q, &err));
   EXPECT_NE(err.find("abc"), std::string::npos);
-  EXPECT_FALSE(loadTrackerParams(YAML::Load("{ba_window_size: 1}"), &q, &err));  // fails validation
+  EXPECT_FALSE(trackerParamTable().load(YAML::Load("{ba_window_size: 1}"), &q, &err));  // fails validation
   EXPECT_NE(err.find("ba_window_size"), std::string::npos);
   EXPECT_EQ(q.ba_window_size, TrackerParams().ba_window_size);  // unchanged on failure
 }

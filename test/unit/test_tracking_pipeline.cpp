@@ -93,14 +93,12 @@ TEST(TrackingPipeline, SyntheticSequenceFisheyeThreadedMapping) {
   EXPECT_EQ(rs.stats.lost_events, 0);
 }
 
-// ba_commit_frames 1: the BA of each keyframe is written back one frame later (the tracker waits for it there), so a
-// threaded run stays reproducible: two runs give the same trajectory.
-TEST(TrackingPipeline, ThreadedEarlyBACommitIsReproducible) {
+// Threaded mapping: each keyframe's BA runs on the mapping thread and is written back at the next keyframe (the
+// tracker waits for it there), so a threaded run is reproducible: two runs give the same trajectory.
+TEST(TrackingPipeline, ThreadedMappingIsReproducible) {
   auto cam = std::make_shared<TestPinhole>(752, 480, 458.0, 367.0, 248.0);
   TrackerParams p;
   p.mapping_thread = true;
-  p.ba_deferred_commit = true;
-  p.ba_commit_frames = 1;
   // The BA's CPU-time budget (0.1 s) is a deliberate dependence on the machine's speed: on a starved virtual
   // machine (the hypervisor taking ~70 % of the time) one run hit it and the other did not. Thread timing is
   // what this test is about, so the budget is lifted here.

@@ -1,14 +1,13 @@
 // Unit tests of the tracker's role classes on hand-built maps: keyframe policy, map-point culling, the
 // local BA window and its monocular gauge, bounded map size, and the local mapper's thread lifecycle
 // (matching: test_tracking_matcher).
-#include <iraf_vo/tracking/keyframe_policy.h>
-#include <iraf_vo/tracking/local_ba.h>
-#include <iraf_vo/tracking/local_mapper.h>
-#include <iraf_vo/tracking/map.h>
+#include "iraf_vo/tracking/keyframe_policy.h"
+#include "iraf_vo/tracking/local_ba.h"
+#include "iraf_vo/tracking/local_mapper.h"
+#include "iraf_vo/tracking/map.h"
+#include "unit/tracking_test_utils.h"
 
 #include <gtest/gtest.h>
-
-#include "unit/tracking_test_utils.h"
 
 #include <chrono>
 #include <future>
@@ -60,36 +59,26 @@ struct HandBuiltMap {
 };
 
 TEST(KeyframePolicy, Conditions) {
-  TrackerParams p;  // keyframe_min_tracked 80, ratio 0.9, max 20 frames, sync busy 3 frames
-  p.mapping_thread = true;
+  TrackerParams p;  // keyframe_min_tracked 80, ratio 0.9, max 20 frames, mapping busy 3 frames
   KeyframeCandidate c;
   c.reference_tracked = 200;
-  c.frames_since_keyframe = 5;
+  c.frames_since_keyframe = p.mapping_busy_frames;
   c.inliers = 195;
-  c.mapping_idle = true;
   EXPECT_FALSE(needNewKeyframe(c, p)) << "tracking well: no keyframe";
-  c.inliers = 150;  // < 0.9 * 200 and the mapper is idle
+  c.inliers = 150;  // < 0.9 * 200 and mapping counts as idle
   EXPECT_TRUE(needNewKeyframe(c, p));
-  c.mapping_idle = false;
-  EXPECT_FALSE(needNewKeyframe(c, p)) << "(b) waits for an idle mapper";
+  c.frames_since_keyframe = p.mapping_busy_frames - 1;
+  EXPECT_FALSE(needNewKeyframe(c, p)) << "(b) waits until mapping counts as idle";
+  p.mapping_thread = false;
+  EXPECT_FALSE(needNewKeyframe(c, p)) << "the same rule in both mapping modes";
   c.frames_since_keyframe = p.max_frames_between_keyframes;
+  p.mapping_busy_frames = p.max_frames_between_keyframes + 1;
   EXPECT_TRUE(needNewKeyframe(c, p)) << "(b) or (c) after the timeout";
-  c.frames_since_keyframe = 5;
+  c.frames_since_keyframe = 1;
   c.inliers = p.keyframe_min_tracked - 1;
-  EXPECT_TRUE(needNewKeyframe(c, p)) << "(a) losing the map, even with a busy mapper";
-  p.min_frames_between_keyframes = 6;
+  EXPECT_TRUE(needNewKeyframe(c, p)) << "(a) losing the map, even while mapping counts as busy";
+  p.min_frames_between_keyframes = 2;
   EXPECT_FALSE(needNewKeyframe(c, p)) << "never before min_frames_between_keyframes";
-  // Synchronous mapping: "idle" = sync_mapping_busy_frames after the last keyframe.
-  TrackerParams s;
-  s.mapping_thread = false;
-  KeyframeCandidate d;
-  d.reference_tracked = 200;
-  d.inliers = 150;
-  d.mapping_idle = false;  // ignored
-  d.frames_since_keyframe = s.sync_mapping_busy_frames - 1;
-  EXPECT_FALSE(needNewKeyframe(d, s));
-  d.frames_since_keyframe = s.sync_mapping_busy_frames;
-  EXPECT_TRUE(needNewKeyframe(d, s));
 }
 
 TEST(LocalBA, GaugeFixesOldestUntilTwoFixedAndSpanHolds) {
@@ -121,7 +110,7 @@ TEST(LocalBA, GaugeFixesOldestUntilTwoFixedAndSpanHolds) {
 
 TEST(LocalBA, WindowIsTheNewestKeyframesWithOutsideObserversFixed) {
   HandBuiltMap hb(40, 4);  // 6 keyframes, every one observes all 40 points
-  const LocalBAProblem prob = hb.map.localBAProblem(3, 0.3);
+  const LocalBAProblem prob = buildLocalBAProblem(hb.map, 3, 0.3);
   ASSERT_EQ(prob.window_size, 3);
   ASSERT_EQ(prob.keyframe_ids.size(), 6u);
   EXPECT_EQ(prob.keyframe_ids[0], hb.kf_ids.back()) << "newest first";
@@ -131,7 +120,7 @@ TEST(LocalBA, WindowIsTheNewestKeyframesWithOutsideObserversFixed) {
   EXPECT_EQ(prob.observations.size(), 40u * 6u);
   EXPECT_EQ(prob.scale_anchor, -1) << "anchored by keyframes outside the window";
   // A window covering the whole map: only its oldest keyframe is fixed, the scale is held about it.
-  const LocalBAProblem all = hb.map.localBAProblem(10, 0.3);
+  const LocalBAProblem all = buildLocalBAProblem(hb.map, 10, 0.3);
   EXPECT_EQ(all.window_size, 6);
   int fixed = 0;
   for (const auto& k : all.keyframes) fixed += k.fixed;
@@ -208,13 +197,13 @@ TEST(LocalBA, YoungMapCorrectsTheInitialBaselineAndHoldsItsScale) {
 
 TEST(LocalBA, OutlierObservationsAreRemovedAndPosesWrittenBack) {
   HandBuiltMap hb(20, 1);
-  LocalBAProblem prob = hb.map.localBAProblem(2, 0.0);
+  LocalBAProblem prob = buildLocalBAProblem(hb.map, 2, 0.0);
   BASummary summary;
   summary.outlier.assign(prob.observations.size(), 0);
   summary.outlier[0] = 1;
   const long pid = prob.point_ids[prob.observations[0].point];
   prob.points[prob.observations[0].point].p_w = Eigen::Vector3d(7, 7, 7);
-  hb.map.applyLocalBA(prob, summary);
+  applyLocalBA(prob, summary, &hb.map);
   bool found = false;
   for (const auto& p : hb.map.pointPositions()) found |= p.isApprox(Eigen::Vector3d(7, 7, 7));
   EXPECT_TRUE(found) << "optimized point written back";
@@ -226,7 +215,7 @@ TEST(LocalBA, OutlierObservationsAreRemovedAndPosesWrittenBack) {
 // poses by > 10 px and the next BAs shrank the monocular scale.
 TEST(LocalBA, KeyframesAndPointsAddedWhileBARanFollowTheCorrection) {
   HandBuiltMap hb(20, 2);  // keyframes 0..3
-  LocalBAProblem prob = hb.map.localBAProblem(2, 0.0);
+  LocalBAProblem prob = buildLocalBAProblem(hb.map, 2, 0.0);
   ASSERT_EQ(prob.keyframe_ids[0], hb.kf_ids.back());
   ASSERT_FALSE(prob.keyframes[0].fixed);
   // Meanwhile: two new keyframes and a point triangulated between them (pre-BA poses).
@@ -245,7 +234,7 @@ TEST(LocalBA, KeyframesAndPointsAddedWhileBARanFollowTheCorrection) {
   prob.keyframes[0].T_c_w = T_opt;
   BASummary summary;
   summary.outlier.assign(prob.observations.size(), 0);
-  hb.map.applyLocalBA(prob, summary);
+  applyLocalBA(prob, summary, &hb.map);
   Eigen::Isometry3d T_new_after, T_newest_after;
   ASSERT_TRUE(hb.map.keyframePose(kf_new, &T_new_after));
   ASSERT_TRUE(hb.map.keyframePose(hb.kf_ids.back(), &T_newest_after));
@@ -294,79 +283,102 @@ TEST(MapCulling, MapIsBoundedToMaxKeyframes) {
   EXPECT_EQ(hb.map.numPoints(), 0u) << "points without observations are deleted";
 }
 
-TEST(LocalMapperTest, ThreadProcessesQueueStopsAndResets) {
+TEST(LocalMapperTest, ThreadRunsBAStopsAndResets) {
   test::TestPinhole cam(640, 480, 500, 320, 240);
   TrackerParams p;
   p.mapping_thread = true;
-  p.ba_deferred_commit = false;  // the thread maps, runs BA and writes back itself
   p.max_map_keyframes = 4;
   p.ba_window_size = 3;
   HandBuiltMap hb(30, 4);  // 6 keyframes
   {
     LocalMapper mapper(cam, p, &hb.map);
     EXPECT_TRUE(mapper.idle());
-    for (long id : hb.kf_ids) mapper.insertKeyframe(id);
+    for (long id : hb.kf_ids) {
+      auto lk = hb.map.lockUpdates();
+      mapper.acceptKeyframe(id);
+      lk.unlock();
+      mapper.insertKeyframe(id);
+    }
     mapper.waitUntilIdle();
     EXPECT_TRUE(mapper.idle());
     EXPECT_LE(hb.map.numKeyframes(), 4u) << "the mapper bounds the map";
     EXPECT_GE(mapper.stats().ba_runs, 1);
-    // Reset with work queued: returns, and the mapper still works afterwards.
-    for (long id : hb.kf_ids) mapper.insertKeyframe(id);
+    // Reset with a BA running: returns, and the mapper still works afterwards.
+    mapper.insertKeyframe(hb.map.keyframePoses().back().id);
     mapper.clearQueue();
     EXPECT_TRUE(mapper.idle());
-    Frame f = gridFrame(50, 30, 1.0);
-    const long id = hb.map.addKeyframe(f);
+    long id;
+    {
+      auto lk = hb.map.lockUpdates();
+      id = mapper.addKeyframe(gridFrame(50, 30, 1.0));
+    }
     mapper.insertKeyframe(id);
     mapper.waitUntilIdle();
     EXPECT_TRUE(mapper.idle());
   }
-  // Destruction with keyframes queued must not hang.
+  // Destruction with a BA running must not hang.
   auto done = std::async(std::launch::async, [&] {
     LocalMapper mapper(cam, p, &hb.map);
-    for (int k = 0; k < 3; ++k) mapper.insertKeyframe(hb.map.keyframePoses().back().id);
+    mapper.insertKeyframe(hb.map.keyframePoses().back().id);
   });
   EXPECT_EQ(done.wait_for(std::chrono::seconds(30)), std::future_status::ready);
 }
 
-// Deferred commit (the default with a mapping thread): the thread only runs BA; its result reaches the map when
-// the tracking thread maps its next keyframe, never in between (so frames see a map independent of timing).
-TEST(LocalMapperTest, DeferredCommitWritesBAOnlyAtTheNextKeyframe) {
+// Threaded mapping: the thread only runs BA; its result reaches the map when the tracking thread accepts its
+// next keyframe, never in between (so frames see a map independent of thread timing). Synchronous mapping
+// writes it back inside insertKeyframe.
+TEST(LocalMapperTest, ThreadedBAIsWrittenBackOnlyAtTheNextKeyframe) {
   test::TestPinhole cam(640, 480, 500, 320, 240);
-  TrackerParams p;
-  p.mapping_thread = true;
-  p.ba_deferred_commit = true;
-  p.ba_window_size = 3;
-  HandBuiltMap hb(30, 4);  // 6 keyframes on a line, all points at z = 2
-  Eigen::Isometry3d T_before;
-  ASSERT_TRUE(hb.map.keyframePose(hb.kf_ids.back(), &T_before));
-  // Disturb the newest keyframe so that BA moves it.
-  {
+  for (const bool threaded : {true, false}) {
+    SCOPED_TRACE(threaded ? "threaded" : "synchronous");
+    TrackerParams p;
+    p.mapping_thread = threaded;
+    p.ba_window_size = 3;
+    HandBuiltMap hb(30, 4);  // 6 keyframes on a line, all points at z = 2
+    Eigen::Isometry3d T_before;
+    ASSERT_TRUE(hb.map.keyframePose(hb.kf_ids.back(), &T_before));
+    // Disturb the newest keyframe so that BA moves it.
+    {
+      auto lk = hb.map.lockUpdates();
+      applyLocalBA(
+          [&] {
+            LocalBAProblem prob = buildLocalBAProblem(hb.map, 1, 0.0);
+            prob.keyframes[0].T_c_w.translation() += Eigen::Vector3d(0.02, 0.0, 0.0);
+            return prob;
+          }(),
+          [&] {
+            BASummary s;
+            s.outlier.assign(buildLocalBAProblem(hb.map, 1, 0.0).observations.size(), 0);
+            return s;
+          }(),
+          &hb.map);
+    }
+    Eigen::Isometry3d T_disturbed;
+    ASSERT_TRUE(hb.map.keyframePose(hb.kf_ids.back(), &T_disturbed));
+    ASSERT_FALSE(T_disturbed.isApprox(T_before, 1e-6));
+    LocalMapper mapper(cam, p, &hb.map);
+    mapper.insertKeyframe(hb.kf_ids.back());
+    mapper.waitUntilIdle();
+    EXPECT_GE(mapper.stats().ba_runs, 1);
+    Eigen::Isometry3d T_after_ba;
+    ASSERT_TRUE(hb.map.keyframePose(hb.kf_ids.back(), &T_after_ba));
+    EXPECT_EQ(T_after_ba.isApprox(T_disturbed, 1e-12), threaded)
+        << "threaded: not written back by the thread; synchronous: written back at once";
+    // The health monitor's scale-change input follows the write-back, not the end of the BA: otherwise the
+    // frame that sees it (and may be rejected for it) depends on when the thread finishes.
+    const double change_after_ba = mapper.takeScaleChange();
+    if (!threaded) {
+      EXPECT_NE(change_after_ba, 1.0) << "synchronous: the BA's scale change is reported at once";
+      continue;
+    }
+    EXPECT_EQ(change_after_ba, 1.0) << "threaded: BA result not written back yet, no scale change to report";
     auto lk = hb.map.lockUpdates();
-    hb.map.applyLocalBA([&] {
-      LocalBAProblem prob = hb.map.localBAProblem(1, 0.0);
-      prob.keyframes[0].T_c_w.translation() += Eigen::Vector3d(0.02, 0.0, 0.0);
-      return prob;
-    }(), [&] {
-      BASummary s;
-      s.outlier.assign(hb.map.localBAProblem(1, 0.0).observations.size(), 0);
-      return s;
-    }());
+    mapper.addKeyframe(gridFrame(60, 30, 0.8));
+    Eigen::Isometry3d T_committed;
+    ASSERT_TRUE(hb.map.keyframePose(hb.kf_ids.back(), &T_committed));
+    EXPECT_FALSE(T_committed.isApprox(T_disturbed, 1e-9)) << "BA result written back at the next keyframe";
+    EXPECT_NE(mapper.takeScaleChange(), 1.0) << "its scale change reported with it";
   }
-  Eigen::Isometry3d T_disturbed;
-  ASSERT_TRUE(hb.map.keyframePose(hb.kf_ids.back(), &T_disturbed));
-  ASSERT_FALSE(T_disturbed.isApprox(T_before, 1e-6));
-  LocalMapper mapper(cam, p, &hb.map);
-  mapper.insertKeyframe(hb.kf_ids.back());
-  mapper.waitUntilIdle();
-  EXPECT_GE(mapper.stats().ba_runs, 1);
-  Eigen::Isometry3d T_after_ba;
-  ASSERT_TRUE(hb.map.keyframePose(hb.kf_ids.back(), &T_after_ba));
-  EXPECT_TRUE(T_after_ba.isApprox(T_disturbed, 1e-12)) << "BA result not written back by the thread";
-  const long next = hb.map.addKeyframe(gridFrame(60, 30, 0.8));
-  mapper.mapKeyframeInTracking(next);
-  Eigen::Isometry3d T_committed;
-  ASSERT_TRUE(hb.map.keyframePose(hb.kf_ids.back(), &T_committed));
-  EXPECT_FALSE(T_committed.isApprox(T_disturbed, 1e-9)) << "BA result committed at the next keyframe";
 }
 
 TEST(LocalMapperTest, SynchronousMappingProcessesInline) {

@@ -2,14 +2,14 @@
 // against ceres::Solve (use_ceres = true) on the same problems with Ceres' rule for invalid steps: the same steps,
 // hence the same cost, iterations and parameters; its stop rules (abort flag, iteration budget); and its own rule
 // for points that a step moves behind a camera.
+#include "iraf_vo/tracking/bundle_adjustment.h"
+#include "tracking_test_utils.h"
+
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <memory>
 #include <random>
-
-#include "iraf_vo/tracking/geometry.h"
-#include "tracking_test_utils.h"
 
 using namespace iraf_vo;
 

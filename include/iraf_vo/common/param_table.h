@@ -1,8 +1,9 @@
 // One parameter table per stage (SVO Pro style: one options struct per module, read by one loader). A table lists
-// every field of a parameter struct once: name (= struct field = cfg/<Stage>.cfg parameter = YAML key), member,
-// cfg range and one-line doc (= the cfg description). It drives YAML loading, `--set key=value`, ROS private
-// parameters and the dynamic_reconfigure bridge (src/nodelets/param_bridge.h); test_params checks cfg == table ==
-// struct defaults. ROS-free.
+// every field of a parameter struct once, one row per field: name (= struct field = cfg/<Stage>.cfg parameter = YAML
+// key), member, accepted range and one-line doc (= the cfg description). The default is the struct's own
+// (default-constructed S). The table drives YAML loading, `--set section.key=value`, ROS private parameters, the
+// dynamic_reconfigure bridge (src/nodelets/param_bridge.h), validation (each row's range, then the struct's
+// cross-field rule) and docs/parameters.md; test_params checks cfg == table == struct defaults. ROS-free.
 #pragma once
 
 #include <yaml-cpp/yaml.h>
@@ -34,8 +35,8 @@ struct ParamEntry {
   bool S::*bool_field = nullptr;
   std::function<std::string(const S&)> get_text;         // kText
   std::function<bool(const std::string&, S*)> set_text;  // kText: false for an unknown name
-  double min = 0.0, max = 0.0;                           // dynamic_reconfigure range (kInt / kDouble)
-  bool odd = false;  // the cfg slider may give even values: the ROS bridge rounds them up to odd
+  double min = 0.0, max = 0.0;  // accepted range, inclusive (kInt / kDouble): validation and the cfg slider
+  bool odd = false;  // odd values only (the cfg slider may give even ones: the ROS bridge rounds them up to odd)
   std::string doc;   // = the cfg description
 };
 
@@ -73,14 +74,60 @@ ParamEntry<S> enumParam(std::string name, E S::*f, const char* (*to_string)(E), 
 template <class S>
 class ParamTable {
  public:
-  using Validate = std::string (*)(const S&);
-  /// `section`: the YAML section / --set prefix ("enhance"); `validate`: "" when a struct is usable.
-  ParamTable(std::string section, std::vector<ParamEntry<S>> entries, Validate validate)
-      : section_(std::move(section)), entries_(std::move(entries)), validate_(validate) {}
+  /// The rules between fields of one struct: "" when they hold, else messages naming the fields.
+  using CrossCheck = std::string (*)(const S&);
+  /// `section`: the YAML section / --set prefix ("enhance"); `cross_check`: null when the fields are independent;
+  /// `cross_check_doc`: what it checks, for docs/parameters.md.
+  ParamTable(std::string section, std::vector<ParamEntry<S>> entries, CrossCheck cross_check = nullptr,
+             std::string cross_check_doc = "")
+      : section_(std::move(section)),
+        entries_(std::move(entries)),
+        cross_check_(cross_check),
+        cross_check_doc_(std::move(cross_check_doc)) {}
 
   const std::string& section() const { return section_; }
+  const std::string& crossCheckDoc() const { return cross_check_doc_; }
   const std::vector<ParamEntry<S>>& entries() const { return entries_; }
-  std::string validate(const S& p) const { return validate_(p); }
+
+  /// "" when every field is in its row's range (odd where marked) and the cross-field rule holds; else one message
+  /// per violation ("name must be in [min, max] (got v)"), joined by "; ".
+  std::string validate(const S& p) const {
+    std::string out;
+    const auto add = [&out](const std::string& m) {
+      if (!m.empty()) out += (out.empty() ? "" : "; ") + m;
+    };
+    for (const ParamEntry<S>& e : entries_) add(checkRange(p, e));
+    if (cross_check_) add(cross_check_(p));
+    return out;
+  }
+
+  /// "" or "<name> must be [odd and ]in [min, max] (got v)" for one row (kBool / kText: always "").
+  std::string checkRange(const S& p, const ParamEntry<S>& e) const {
+    bool ok = true;
+    if (e.type == ParamType::kInt) {
+      const int v = p.*(e.int_field);
+      ok = v >= e.min && v <= e.max && (!e.odd || v % 2 != 0);
+    } else if (e.type == ParamType::kDouble) {
+      const double v = p.*(e.double_field);
+      ok = v >= e.min && v <= e.max;  // false for NaN
+    }
+    return ok ? "" : e.name + " must be " + rangeText(e) + " (got " + get(p, e) + ")";
+  }
+
+  /// The accepted values as text: "in [1, 15]", "odd and in [1, 15]", "true or false", or "" (kText: see the doc).
+  static std::string rangeText(const ParamEntry<S>& e) {
+    switch (e.type) {
+      case ParamType::kInt:
+      case ParamType::kDouble:
+        return std::string(e.odd ? "odd and " : "") + "in [" + formatDouble(e.min) + ", " + formatDouble(e.max) + "]";
+      case ParamType::kBool: return "true or false";
+      case ParamType::kText: return "";
+    }
+    return "";
+  }
+
+  /// The default of a row: its value in a default-constructed S (the struct's initializers are the defaults).
+  std::string defaultText(const ParamEntry<S>& e) const { return get(S{}, e); }
 
   const ParamEntry<S>* find(const std::string& name) const {
     for (const ParamEntry<S>& e : entries_)
@@ -139,7 +186,7 @@ class ParamTable {
 
   /// "" or "invalid <section> parameters: ..." for *error.
   bool validateInto(const S& p, std::string* error) const {
-    const std::string v = validate_(p);
+    const std::string v = validate(p);
     return v.empty() || fail(error, "invalid " + section_ + " parameters: " + v);
   }
 
@@ -151,7 +198,8 @@ class ParamTable {
 
   std::string section_;
   std::vector<ParamEntry<S>> entries_;
-  Validate validate_;
+  CrossCheck cross_check_;
+  std::string cross_check_doc_;
 };
 
 }  // namespace iraf_vo

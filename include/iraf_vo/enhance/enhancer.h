@@ -14,45 +14,12 @@
 #include <array>
 #include <string>
 
+#include "iraf_vo/enhance/enhance_params.h"
+
 namespace iraf_vo {
 
 enum class BrightnessClass { kDim = -1, kNormal = 0, kBright = 1 };
 const char* toString(BrightnessClass c);
-
-/// Which preprocessing runs. `iraf` is the paper's pipeline; `he` / `clahe` are the comparison
-/// front-ends of the paper's Table I (HE-SLAM, CLAHE-SLAM); `none` passes the image through.
-enum class EnhanceMethod { kNone = 0, kIraf = 1, kHe = 2, kClahe = 3 };
-const char* toString(EnhanceMethod m);
-/// Parses "none" | "iraf" | "he" | "clahe"; returns false for anything else.
-bool parseEnhanceMethod(const std::string& s, EnhanceMethod* m);
-
-struct EnhanceParams {
-  EnhanceMethod method = EnhanceMethod::kIraf;
-
-  // eqs. (1)-(2): Gaussian filter. Not given in the paper or the authors' code: 5x5, sigma 1.0
-  // removes sensor noise without erasing FAST-scale corners (unsharp masking restores edges).
-  int gaussian_kernel_size = 5;  // odd, >= 1 (1 = no smoothing)
-  double gaussian_sigma = 1.0;
-
-  // eqs. (9)-(10): brightness classification.
-  double mu_expected = 112.0;         // expected mean intensity; 112 generic, 50 used for EuRoC
-  double brightness_threshold = 0.3;  // |t| above this -> dim (t < 0) or bright (t > 0)
-
-  // eqs. (5)-(7) for dim images: smoothness lambda and lower gamma bound tau.
-  double dim_lambda = 0.75;
-  double dim_tau = 0.5;
-  // The same on the inverted image for over-bright images ("dimming").
-  double bright_lambda = 0.25;
-  double bright_tau = 0.5;
-
-  // eq. (12): weights of the gamma term (epsilon) and of the unsharp mask (eta, the unsharp amount).
-  double epsilon = 1.0;
-  double eta = 1.5;
-
-  // Comparison front-ends (Table I): CLAHE as ORB-SLAM3 uses it for TUM-VI.
-  double clahe_clip_limit = 3.0;
-  int clahe_tiles = 8;
-};
 
 struct EnhanceResult {
   cv::Mat image;  // CV_8UC1, same size as the input
@@ -61,9 +28,6 @@ struct EnhanceResult {
   double t = 0.0;   // eq. (10)
   double ms = 0.0;  // wall time spent in enhance()
 };
-
-/// Returns a message naming what is wrong with the config, or "" when it is usable.
-std::string validate(const EnhanceParams& cfg);
 
 /// Lets the iraf blend (eqs. 11-12) use AVX-512 (where the CPU has AVX-512BW; the default) or 128-bit SIMD:
 /// the same bytes. For tests; returns whether AVX-512 is now in use.

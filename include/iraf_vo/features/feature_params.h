@@ -1,10 +1,9 @@
-// Parameters of the feature stage (paper II-B adaptive thresholding, II-C feature culling). ROS-free.
-// Field names equal the cfg/Features.cfg parameter names (dynamic_reconfigure class iraf_vo::FeaturesConfig)
-// and the keys of the YAML loader below; featureParamTable() lists them (test_params: cfg == table == struct).
+// Parameters of the feature stage (paper II-B adaptive thresholding, II-C feature culling): the struct (its
+// initializers are the defaults) and its parameter table (common/param_table.h): names = field names =
+// cfg/Features.cfg parameters = YAML `features:` keys = `--set features.key=value`. ROS-free.
 #pragma once
 
 #include <string>
-#include <vector>
 
 #include "iraf_vo/common/param_table.h"
 
@@ -68,18 +67,10 @@ struct FeatureParams {
 };
 
 
-/// Returns a message naming every unusable field (and its value), or "" when the params are usable.
-std::string validate(const FeatureParams& p);
-
-/// Every FeatureParams field with its cfg/Features.cfg range and doc (a new field needs an entry here and in the cfg).
+/// Every FeatureParams field with its accepted range and doc (a new field needs a row here and in the cfg).
 const ParamTable<FeatureParams>& featureParamTable();
 
-/// Sets one field from text ("n_features", "500"). false + *err naming the key and the value.
-bool setFeatureParam(FeatureParams* p, const std::string& key, const std::string& value, std::string* err);
-std::vector<std::string> featureParamNames();
-
-/// Reads the keys present in `node` (a YAML map) into *p; keys not present keep their value.
-/// Unknown keys, wrong types or invalid values -> false with *err naming the key.
-bool loadFeatureParams(const YAML::Node& node, FeatureParams* p, std::string* err);
+/// Returns a message naming each field out of its table range, or "" when the params are usable.
+std::string validate(const FeatureParams& p);
 
 }  // namespace iraf_vo

@@ -2,11 +2,14 @@
 // `features:`, `tracker:`; keys = the stages' parameter tables) and `section.key=value` overrides. ROS-free.
 #pragma once
 
+#include <yaml-cpp/yaml.h>
+
 #include <set>
 #include <string>
+#include <vector>
 
 #include "iraf_vo/camera/camera_model.h"
-#include "iraf_vo/enhance/enhancer.h"
+#include "iraf_vo/enhance/enhance_params.h"
 #include "iraf_vo/features/feature_params.h"
 #include "iraf_vo/tracking/tracker_params.h"
 
@@ -19,6 +22,18 @@ struct PipelineParams {
   /// "section.key" of every field a config file or a setting gave (applyResolutionRule keeps these).
   std::set<std::string> user_set;
 };
+
+/// Calls f(table, stage) for each stage's parameter table and struct, in pipeline order (enhance, features, tracker):
+/// the one place that lists the stages (YAML sections, --set, validation, --help, docs/parameters.md).
+template <class Pipeline, class F>
+void forEachStage(Pipeline& p, F&& f) {
+  f(enhanceParamTable(), p.enhance);
+  f(featureParamTable(), p.features);
+  f(trackerParamTable(), p.tracker);
+}
+/// The section names in pipeline order, and as "enhance, features, tracker".
+std::vector<std::string> pipelineSections();
+std::string pipelineSectionList();
 
 /// Resolution rule. The defaults of the size-dependent fields are ORB-SLAM's for EuRoC cam0 (752x480,
 /// focal 458.654 px); for another camera they are derived from the image size and the focal length:
@@ -68,11 +83,16 @@ std::string applyTrackerResolutionRule(const CameraModel& camera, const std::set
 /// Reads the optional sections of a YAML file (other top-level keys are ignored). false + *error naming the file,
 /// the section and the key; *p is unchanged for a section that fails. The keys read go to p->user_set.
 bool loadPipelineConfig(const std::string& path, PipelineParams* p, std::string* error);
+/// Reads one section's YAML map (validated, all or nothing); the keys read go to p->user_set. false + *error.
+bool loadPipelineSection(const std::string& section, const YAML::Node& node, PipelineParams* p, std::string* error);
 
 /// Applies one "section.key=value" (section enhance | features | tracker); the key goes to p->user_set. false + *error.
 bool applyPipelineSetting(const std::string& setting, PipelineParams* p, std::string* error);
+/// The same with the parts apart (not validated: validate() the result).
+bool setPipelineParam(const std::string& section, const std::string& key, const std::string& value, PipelineParams* p,
+                      std::string* error);
 
-/// "" when every stage is usable, else the first stage's validation message.
+/// "" when every stage is usable, else "<section>: " + the first failing stage's validation message.
 std::string validate(const PipelineParams& p);
 
 }  // namespace iraf_vo

@@ -2,8 +2,8 @@
 // pixel grid for window searches. ROS-free; used by the tracking thread only.
 #pragma once
 
-#include <iraf_vo/camera/camera_model.h>
-#include <iraf_vo/features/feature_frame.h>
+#include "iraf_vo/camera/camera_model.h"
+#include "iraf_vo/features/feature_frame.h"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>

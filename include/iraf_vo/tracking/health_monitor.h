@@ -18,7 +18,7 @@
 // and three frames of motion history exist, a frame is only checked for inliers and reprojection.
 #pragma once
 
-#include <iraf_vo/tracking/tracker_params.h>
+#include "iraf_vo/tracking/tracker_params.h"
 
 #include <Eigen/Geometry>
 

@@ -12,7 +12,7 @@
 // newest centre; scale only weakly held: it drifted towards 0 in fast-motion runs), the oldest window
 // keyframes are fixed until both hold, keeping at least one keyframe free.
 //
-// Write-back (Map::applyLocalBA) while the tracking thread kept going: keyframes added after the problem was
+// Write-back (applyLocalBA) while the tracking thread kept going: keyframes added after the problem was
 // built were posed against the pre-BA map and points triangulated meanwhile used pre-BA poses; both are moved
 // with the correction of their anchor keyframe (points: the keyframe that created them if it was free in the
 // BA; keyframes and points of new keyframes: the newest window keyframe), so the map stays consistent (without
@@ -20,7 +20,8 @@
 // scale).
 #pragma once
 
-#include <iraf_vo/tracking/geometry.h>
+#include "iraf_vo/tracking/bundle_adjustment.h"
+#include "iraf_vo/tracking/map.h"
 
 #include <utility>
 #include <vector>
@@ -44,6 +45,14 @@ struct LocalBAProblem {
   // initialization would otherwise stay frozen in the map.
   int scale_anchor = -1;
 };
+
+/// The sliding-window BA problem of the map's newest window_size keyframes, copied under the map lock.
+LocalBAProblem buildLocalBAProblem(const Map& map, int window_size, double min_fixed_span);
+
+/// Writes the optimized poses / points back into the map, moves keyframes / points added since the problem was
+/// built with their anchor's correction and removes observations flagged as outliers. The caller holds
+/// Map::lockUpdates() (the mapping thread) or is the tracking thread.
+void applyLocalBA(const LocalBAProblem& problem, const BASummary& summary, Map* map);
 
 /// Fixes the oldest window keyframes (indices window_size-1 down to 1) until at least two keyframes are fixed
 /// and the fixed centres span >= min_fixed_span * the window's extent. Returns the number of fixed keyframes.

@@ -5,9 +5,8 @@
 // its observations, and points without observations are deleted.
 #pragma once
 
-#include <iraf_vo/tracking/frame.h>
-#include <iraf_vo/tracking/geometry.h>
-#include <iraf_vo/tracking/local_ba.h>
+#include "iraf_vo/camera/camera_model.h"
+#include "iraf_vo/tracking/frame.h"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -46,7 +45,7 @@ struct Keyframe {
   std::vector<char> valid;
   // guarded by the map mutex:
   std::vector<long> point_id;
-  std::atomic<bool> triangulated{false};  // new points created already (by the mapping thread or a starving tracker)
+  std::atomic<bool> triangulated{false};  // new points created already (LocalMapper::createNewMapPoints)
 
   /// A keyframe with the frame's keypoints and no observations yet (id assigned by the map).
   static std::shared_ptr<Keyframe> fromFrame(const Frame& f, const Eigen::Isometry3d& T_c_w);
@@ -110,28 +109,17 @@ struct TriangulationInput {
   double median_depth = 1.0;
 };
 
-/// Map-point fusion (ORB-SLAM's SearchInNeighbors / Fuse): a keyframe to project points into, with a copy of
-/// its pose and observations taken under the lock, and the points to project (not observed by it).
-struct FusionTarget {
-  KeyframePtr keyframe;
-  Eigen::Isometry3d T_c_w;
-  std::vector<long> point_id;
-  std::vector<LocalPoint> candidates;
-};
-
-/// Keypoint kp of keyframe kf_id shows map point point_id (found by projection).
-struct FusionLink {
-  long kf_id;
-  int kp;
-  long point_id;
-};
-
 /// Keyframe poses as published.
 struct KeyframePose {
   long id = 0;
   double stamp = 0.0;
   Eigen::Isometry3d T_w_c = Eigen::Isometry3d::Identity();
 };
+
+struct LocalBAProblem;
+struct BASummary;
+struct FusionTarget;
+struct FusionLink;
 
 class Map {
  public:
@@ -147,9 +135,10 @@ class Map {
 
   // ---- tracking thread ----
   /// The map-update lock (ORB-SLAM's mMutexMapUpdate): the tracking thread holds it over one frame (pose from
-  /// the map's points, keyframe creation, starving triangulation, the last frame's pose relative to its
-  /// keyframe) and applyLocalBA takes it, so BA results never land in the middle of a tracking step. Never
-  /// held while waiting for the local mapper (back-pressure, synchronous mapping, reset).
+  /// the map's points, keyframe creation and mapping, the last frame's pose relative to its keyframe) and
+  /// writes BA results back either under it (threaded mapping, at the next keyframe) or takes it for that
+  /// (synchronous mapping, after the tracking step), so BA results never land in the middle of a tracking step.
+  /// The mapping thread never takes it.
   std::unique_lock<std::mutex> lockUpdates() { return std::unique_lock<std::mutex>(update_mutex_); }
   /// With a camera, each point's scale-prediction reference too (LocalPoint::ref_*; predictOctave), else none.
   std::vector<LocalPoint> localPoints(const CameraModel* camera = nullptr) const;
@@ -170,21 +159,6 @@ class Map {
   bool claimForTriangulation(long kf_id, int num_neighbors, TriangulationInput* in);
   /// Adds triangulated points (kf_a = the new keyframe) unless a keypoint got a point meanwhile.
   void addTriangulatedPoints(const std::vector<NewMapPoint>& points);
-  /// The sliding-window BA problem of the newest window_size keyframes (see local_ba.h).
-  LocalBAProblem localBAProblem(int window_size, double min_fixed_span) const;
-  /// Writes the optimized poses / points back, moves keyframes / points added since the problem was built with
-  /// their anchor's correction (local_ba.h) and removes observations flagged as outliers. The caller holds
-  /// lockUpdates() (the mapping thread) or is the tracking thread.
-  void applyLocalBA(const LocalBAProblem& problem, const BASummary& summary);
-  /// Fusion targets of keyframe kf_id (map_fusion.cpp): the keyframe itself with the points of its num_neighbors
-  /// most covisible keyframes, and each of those neighbors with the keyframe's points (points a target observes
-  /// already are left out). Empty when the keyframe is gone.
-  std::vector<FusionTarget> fusionTargets(long kf_id, int num_neighbors, const CameraModel* camera = nullptr) const;
-  /// Applies links in order: a keypoint without a point gets the observation; a keypoint showing another point
-  /// merges the two (the point with more observations keeps its id and position, takes the other's observations
-  /// where it has none in that keyframe). Links to vanished keyframes / points, or to a point the keyframe
-  /// observes already, are skipped. Returns {observations added, points merged}.
-  std::pair<int, int> fuse(const std::vector<FusionLink>& links);
   void dropOldKeyframes(int max_keyframes);
 
   // ---- queries (any thread) ----
@@ -194,8 +168,16 @@ class Map {
   size_t numPoints() const;
 
  private:
+  // The local BA's and the fusion's side of the map (local_ba.h, map_fusion.h) work on the map's data under its lock.
+  friend LocalBAProblem buildLocalBAProblem(const Map& map, int window_size, double min_fixed_span);
+  friend void applyLocalBA(const LocalBAProblem& problem, const BASummary& summary, Map* map);
+  friend std::vector<FusionTarget> fusionTargets(const Map& map, long kf_id, int num_neighbors,
+                                                 const CameraModel* camera);
+  friend std::pair<int, int> applyFusion(const std::vector<FusionLink>& links, Map* map);
+
   long createPointLocked(const Eigen::Vector3d& p_w, Keyframe& a, int kp_a, Keyframe& b, int kp_b);
   void erasePointLocked(long id);
+  /// Moves gone's observations to keep (where keep has none in that keyframe) and erases gone (applyFusion).
   void mergePointsLocked(MapPoint* keep, MapPoint* gone);
   LocalPoint localPointLocked(const MapPoint& mp, const CameraModel* camera) const;
 

@@ -7,11 +7,11 @@
 // reference frame sits at `anchor.T_w_ref` (the origin for the first map, the last good pose after a loss).
 #pragma once
 
-#include <iraf_vo/camera/camera_model.h>
-#include <iraf_vo/tracking/frame.h>
-#include <iraf_vo/tracking/map.h>
-#include <iraf_vo/tracking/matcher.h>
-#include <iraf_vo/tracking/tracker_params.h>
+#include "iraf_vo/camera/camera_model.h"
+#include "iraf_vo/tracking/frame.h"
+#include "iraf_vo/tracking/map.h"
+#include "iraf_vo/tracking/matcher.h"
+#include "iraf_vo/tracking/tracker_params.h"
 
 namespace iraf_vo {
 

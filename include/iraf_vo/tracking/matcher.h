@@ -3,10 +3,11 @@
 // triangulation. ROS-free; stateless apart from the parameters.
 #pragma once
 
-#include <iraf_vo/camera/camera_model.h>
-#include <iraf_vo/tracking/frame.h>
-#include <iraf_vo/tracking/map.h>
-#include <iraf_vo/tracking/tracker_params.h>
+#include "iraf_vo/camera/camera_model.h"
+#include "iraf_vo/tracking/frame.h"
+#include "iraf_vo/tracking/map.h"
+#include "iraf_vo/tracking/map_fusion.h"
+#include "iraf_vo/tracking/tracker_params.h"
 
 #include <utility>
 #include <vector>

@@ -7,11 +7,11 @@
 // min_tracking_inliers. ROS-free.
 #pragma once
 
-#include <iraf_vo/camera/camera_model.h>
-#include <iraf_vo/tracking/frame.h>
-#include <iraf_vo/tracking/map.h>
-#include <iraf_vo/tracking/matcher.h>
-#include <iraf_vo/tracking/tracker_params.h>
+#include "iraf_vo/camera/camera_model.h"
+#include "iraf_vo/tracking/frame.h"
+#include "iraf_vo/tracking/map.h"
+#include "iraf_vo/tracking/matcher.h"
+#include "iraf_vo/tracking/tracker_params.h"
 
 namespace iraf_vo {
 

@@ -6,19 +6,19 @@
 //   MapInitializer (map_initializer.h)  two-view initialization (H vs E), first two keyframes
 //   PoseTracker (pose_tracker.h)  motion-model prediction -> projection search -> PnP fallback -> refinement
 //   needNewKeyframe (keyframe_policy.h)  the keyframe decision
-//   LocalMapper (local_mapper.h)  its thread, queue, back-pressure, triangulation, point culling, local BA
+//   LocalMapper (local_mapper.h)  the mapping protocol: triangulation, fusion, point culling, local BA, its thread
 //   LocalBAProblem (local_ba.h)   the sliding window and its monocular gauge
 //   TrackingHealthMonitor (health_monitor.h)  rejects untrustworthy poses (reported lost, never tracking)
 //
 // Per frame: undistort -> not initialized: two-view initialization against a reference frame; map scale =
 // median depth 1 (after a loss: the last known median depth) -> tracking: PoseTracker::trackLocalMap; tracked
-// iff inliers >= min_tracking_inliers and the health monitor trusts the pose -> keyframe decision -> LocalMapper (own thread unless mapping_thread =
-// false; tracking never waits for it except on reset and under back-pressure). With the mapping thread the
-// tracking thread still triangulates each new keyframe's points itself (triangulate_in_tracking; else only when
-// the map is starving: inliers < starving_inliers) and the keyframe decision uses the same "mapping busy for
-// sync_mapping_busy_frames frames" rule as synchronous mapping, so keyframes and points do not depend on the
-// machine's load; one tracking step holds the map-update lock (Map::lockUpdates), so a BA result is written
-// back between frames, and what the tracker added while BA ran follows the BA correction (local_ba.h).
+// iff inliers >= min_tracking_inliers and the health monitor trusts the pose -> keyframe decision -> LocalMapper:
+// the keyframe is mapped (culling, triangulation, fusion) inside the tracking step, its BA runs synchronously or
+// on the mapping thread (mapping_thread) and is written back at once or at the next keyframe (local_mapper.h);
+// the tracker calls the mapper the same way in both modes, and both give the same trajectory every run. The
+// keyframe decision counts mapping as busy for mapping_busy_frames frames after a keyframe in both modes, so
+// keyframes do not depend on the machine's load; one tracking step holds the map-update lock
+// (Map::lockUpdates), so a BA result is written back between frames.
 //
 // Loss recovery: a frame with < min_tracking_inliers inliers is lost (kLost; lost_frames++, and lost_events++
 //   on the transition). The next frames try relocalization (brute force against the map's points + PnP).
@@ -31,13 +31,14 @@
 //   trajectory with resets therefore includes these scale/offset jumps.
 #pragma once
 
-#include <iraf_vo/camera/camera_model.h>
-#include <iraf_vo/features/feature_frame.h>
-#include <iraf_vo/tracking/map.h>
-#include <iraf_vo/tracking/tracker_params.h>
+#include "iraf_vo/camera/camera_model.h"
+#include "iraf_vo/features/feature_frame.h"
+#include "iraf_vo/tracking/map.h"
+#include "iraf_vo/tracking/tracker_params.h"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+
 #include <memory>
 #include <string>
 #include <vector>

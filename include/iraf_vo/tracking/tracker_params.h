@@ -1,11 +1,14 @@
-// Parameters of the tracking / mapping back-end (ROS-free).
+// Parameters of the tracking / mapping back-end: the struct (its initializers are the defaults) and its parameter
+// table (common/param_table.h): names = field names = cfg/Tracker.cfg parameters = YAML `tracker:` keys =
+// `--set tracker.key=value` = the tracker nodelet's private parameters. ROS-free.
 #pragma once
 
 #include <string>
 
+#include "iraf_vo/common/param_table.h"
+
 namespace iraf_vo {
 
-/// Field names = the parameters of cfg/Tracker.cfg and the YAML `tracker:` section.
 struct TrackerParams {
   // ---- initialization ----
   int init_min_features = 100;          // a reference frame needs at least this many keypoints
@@ -48,21 +51,11 @@ struct TrackerParams {
   int min_frames_between_keyframes = 0;
   int max_frames_between_keyframes = 20;
   // ---- local mapping ----
-  bool mapping_thread = true;           // false: mapping runs synchronously inside track() (deterministic)
-  int starving_inliers = 60;            // keyframe inserted with fewer inliers: track() triangulates its new points
-                                        // itself (the mapping thread may be busy); never waits for BA
-  bool triangulate_in_tracking = true;  // mapping_thread = true: track() triangulates every new keyframe's points
-                                        // (as synchronous mapping does; the mapping thread culls, updates
-                                        // descriptors and runs BA); false: only below starving_inliers
-  bool ba_deferred_commit = true;       // mapping_thread = true: the mapping thread only runs BA; the tracking
-                                        // thread writes its result back at the next keyframe (waiting for it) and
-                                        // culls / triangulates itself: results independent of thread timing
-  int ba_commit_frames = 0;             // ba_deferred_commit: the BA started at a keyframe is written back this many
-                                        // frames after it (the tracker waits for it there: still reproducible) or at
-                                        // the next keyframe, whichever comes first; 0 = at the next keyframe
-  int sync_mapping_busy_frames = 3;     // the keyframe policy treats mapping as busy for this many frames after a
-                                        // keyframe (synchronous and threaded mapping: the threaded mapper's real
-                                        // state made the keyframes depend on the machine's load)
+  bool mapping_thread = true;           // the mapping mode (local_mapper.h): BA on the mapping thread, written back
+                                        // at the next keyframe; false: BA inside track(). Both deterministic.
+  int mapping_busy_frames = 3;          // the keyframe policy treats mapping as busy for this many frames after a
+                                        // keyframe (both modes: the threaded mapper's real state made the
+                                        // keyframes depend on the machine's load)
   int num_triangulation_neighbors = 6;
   double min_triangulation_parallax_deg = 1.0;
   double min_found_ratio = 0.25;
@@ -81,13 +74,7 @@ struct TrackerParams {
   double ba_huber_delta = 2.447;        // sqrt(5.991) on the sigma-normalized residual
   bool ba_use_ceres = false;            // every BA (initialization and local) with ceres::Solve instead of the equivalent Schur-complement
                                         // LM (schur_lm.h; same steps, ~3x less CPU)
-  int max_pending_keyframes = 2;        // keyframe queue bound: inserting waits while this many are queued
-                                        // (only under CPU overload; 0 = unbounded)
-  int ba_every_keyframes = 2;           // BA at least every this many keyframes even if more are queued
   double ba_min_fixed_span = 0.3;       // gauge: fixed keyframe centres must span >= this fraction of the window
-  bool ba_abort_on_keyframe = false;    // true: a queued keyframe aborts a running BA (ORB-SLAM); false: BA runs
-                                        // to its iteration / time budget (keyframes queued meanwhile are
-                                        // triangulated afterwards, BA once for the batch)
   // ---- loss ----
   int lost_frames_before_reset = 2;
   // ---- health monitor (health_monitor.h): a pose that fails a check is reported LOST, never TRACKING ----
@@ -100,7 +87,10 @@ struct TrackerParams {
   double health_max_ba_scale_change = 1.5; // local BA may change the window's extent by at most this factor
 };
 
-/// Returns a message naming the bad field, or "" when usable.
+/// Every TrackerParams field with its accepted range and doc.
+const ParamTable<TrackerParams>& trackerParamTable();
+
+/// Returns a message naming each field out of its table range and each broken cross-field rule, or "" when usable.
 std::string validate(const TrackerParams& p);
 
 }  // namespace iraf_vo

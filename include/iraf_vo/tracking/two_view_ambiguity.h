@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+
 #include <vector>
 
 namespace iraf_vo {

@@ -1,9 +1,22 @@
-#include "iraf_vo/enhance/enhance_params_io.h"
+#include "iraf_vo/enhance/enhance_params.h"
+
+#include "iraf_vo/common/enum_names.h"
 
 namespace iraf_vo {
 
+namespace {
+constexpr EnumName<EnhanceMethod> kMethodNames[] = {
+    {EnhanceMethod::kNone, "none"}, {EnhanceMethod::kIraf, "iraf"}, {EnhanceMethod::kHe, "he"},
+    {EnhanceMethod::kClahe, "clahe"}};
+}  // namespace
+
+const char* toString(EnhanceMethod m) { return nameOf(kMethodNames, m, "iraf"); }
+
+bool parseEnhanceMethod(const std::string& s, EnhanceMethod* m) { return parseName(kMethodNames, s, m); }
+
 const ParamTable<EnhanceParams>& enhanceParamTable() {
   using P = EnhanceParams;
+  // The ranges also bound what sizes an allocation (kernel, CLAHE tiles) or is converted to float (the weights).
   static const ParamTable<P> table(
       "enhance",
       {
@@ -29,19 +42,10 @@ const ParamTable<EnhanceParams>& enhanceParamTable() {
                       "eq. 12: weight of the unsharp mask G_mask (unsharp amount, authors' code: 1.5)"),
           doubleParam("clahe_clip_limit", &P::clahe_clip_limit, 0.1, 40.0, "CLAHE clip limit (ORB-SLAM3 TUM-VI: 3.0)"),
           intParam("clahe_tiles", &P::clahe_tiles, 1, 32, "CLAHE tiles per side (ORB-SLAM3 TUM-VI: 8)"),
-      },
-      validate);
+      });
   return table;
 }
 
-bool setEnhanceParam(EnhanceParams* p, const std::string& key, const std::string& value, std::string* error) {
-  return enhanceParamTable().set(p, key, value, error);
-}
-
-std::vector<std::string> enhanceParamNames() { return enhanceParamTable().names(); }
-
-bool loadEnhanceParams(const YAML::Node& node, EnhanceParams* p, std::string* error) {
-  return enhanceParamTable().load(node, p, error);
-}
+std::string validate(const EnhanceParams& p) { return enhanceParamTable().validate(p); }
 
 }  // namespace iraf_vo

@@ -1,5 +1,9 @@
-// Bundle adjustment (geometry.h: bundleAdjust, reprojectionRmse) on Ceres. ROS-free.
-#include <iraf_vo/tracking/geometry.h>
+// Bundle adjustment (bundle_adjustment.h): the Schur-complement LM (schur_lm.h) or ceres::Solve. ROS-free.
+#include "iraf_vo/tracking/bundle_adjustment.h"
+
+#include "ceres_blocks.h"
+#include "iraf_vo/tracking/multiview.h"
+#include "schur_lm.h"
 
 #include <ceres/ceres.h>
 
@@ -9,9 +13,6 @@
 #include <ctime>
 #include <deque>
 #include <memory>
-
-#include "ceres_blocks.h"
-#include "schur_lm.h"
 
 namespace iraf_vo {
 

@@ -1,0 +1,53 @@
+// Parameters of the enhancement stage (paper section II-A): the struct (its initializers are the defaults) and its
+// parameter table (common/param_table.h): names = field names = cfg/Enhance.cfg parameters = YAML `enhance:` keys =
+// `--set enhance.key=value`. ROS-free.
+#pragma once
+
+#include <string>
+
+#include "iraf_vo/common/param_table.h"
+
+namespace iraf_vo {
+
+/// Which preprocessing runs. `iraf` is the paper's pipeline; `he` / `clahe` are the comparison
+/// front-ends of the paper's Table I (HE-SLAM, CLAHE-SLAM); `none` passes the image through.
+enum class EnhanceMethod { kNone = 0, kIraf = 1, kHe = 2, kClahe = 3 };
+const char* toString(EnhanceMethod m);
+/// Parses "none" | "iraf" | "he" | "clahe"; returns false for anything else.
+bool parseEnhanceMethod(const std::string& s, EnhanceMethod* m);
+
+struct EnhanceParams {
+  EnhanceMethod method = EnhanceMethod::kIraf;
+
+  // eqs. (1)-(2): Gaussian filter. Not given in the paper or the authors' code: 5x5, sigma 1.0
+  // removes sensor noise without erasing FAST-scale corners (unsharp masking restores edges).
+  int gaussian_kernel_size = 5;  // odd, >= 1 (1 = no smoothing)
+  double gaussian_sigma = 1.0;
+
+  // eqs. (9)-(10): brightness classification.
+  double mu_expected = 112.0;         // expected mean intensity; 112 generic, 50 used for EuRoC
+  double brightness_threshold = 0.3;  // |t| above this -> dim (t < 0) or bright (t > 0)
+
+  // eqs. (5)-(7) for dim images: smoothness lambda and lower gamma bound tau.
+  double dim_lambda = 0.75;
+  double dim_tau = 0.5;
+  // The same on the inverted image for over-bright images ("dimming").
+  double bright_lambda = 0.25;
+  double bright_tau = 0.5;
+
+  // eq. (12): weights of the gamma term (epsilon) and of the unsharp mask (eta, the unsharp amount).
+  double epsilon = 1.0;
+  double eta = 1.5;
+
+  // Comparison front-ends (Table I): CLAHE as ORB-SLAM3 uses it for TUM-VI.
+  double clahe_clip_limit = 3.0;
+  int clahe_tiles = 8;
+};
+
+/// Every EnhanceParams field with its accepted range and doc (cfg/Enhance.cfg also has the nodelet's `enabled`).
+const ParamTable<EnhanceParams>& enhanceParamTable();
+
+/// Returns a message naming each field out of its table range, or "" when the params are usable.
+std::string validate(const EnhanceParams& p);
+
+}  // namespace iraf_vo
