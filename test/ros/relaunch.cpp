@@ -11,7 +11,7 @@
 #include "common/wait_for.h"
 #include "iraf_vo/camera/camera_loader.h"
 #include "iraf_vo/pipeline/pipeline_params.h"
-#include "iraf_vo/tracking/tracker_params_io.h"
+#include "iraf_vo/tracking/tracker_params.h"
 
 using namespace iraf_vo;
 using iraf_vo::test::waitFor;
