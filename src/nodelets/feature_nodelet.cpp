@@ -48,8 +48,17 @@ class FeatureNodelet : public StageNodelet<FeatureParams, iraf_vo::FeaturesConfi
 
   void statsCb(const iraf_vo::EnhanceStatsConstPtr& msg) {
     std::lock_guard<std::mutex> lock(brightness_mutex_);
+    if (msg->rejected) {
+      ++rejected_since_published_;
+      return;
+    }
     brightness_.push_back(msg);
     while (brightness_.size() > 64) brightness_.pop_front();
+  }
+
+  void countRejected() {
+    std::lock_guard<std::mutex> lock(brightness_mutex_);
+    ++rejected_since_published_;
   }
 
   // The EnhanceStats of the frame with this stamp if they arrived, else null.
@@ -95,6 +104,7 @@ class FeatureNodelet : public StageNodelet<FeatureParams, iraf_vo::FeaturesConfi
     cv::Mat gray;
     std::string error;
     if (!toMono8(msg, &gray, &error)) {
+      countRejected();
       NODELET_ERROR_THROTTLE(5.0, "features: dropping frame (stamp %.3f, frame '%s'): %s", msg->header.stamp.toSec(),
                              msg->header.frame_id.c_str(), error.c_str());
       return;
@@ -105,6 +115,7 @@ class FeatureNodelet : public StageNodelet<FeatureParams, iraf_vo::FeaturesConfi
     try {
       frame = extractor_.extract(gray, msg->header.stamp.toSec(), p, want_image ? &culled : nullptr);
     } catch (const std::exception& e) {
+      countRejected();
       NODELET_ERROR_THROTTLE(5.0, "features: dropping frame (stamp %.3f): %s", msg->header.stamp.toSec(), e.what());
       return;
     }
@@ -117,6 +128,11 @@ class FeatureNodelet : public StageNodelet<FeatureParams, iraf_vo::FeaturesConfi
     if (features_pub_.getNumSubscribers() > 0) {
       iraf_vo::FeaturesPtr out = boost::make_shared<iraf_vo::Features>();
       toMsg(frame, msg->header, out.get());
+      {
+        std::lock_guard<std::mutex> lock(brightness_mutex_);
+        out->rejected_before = static_cast<uint32_t>(rejected_since_published_);
+        rejected_since_published_ = 0;
+      }
       features_pub_.publish(out);
     }
     if (want_image) image_pub_.publish(toImageMsg(debugImage(gray, frame, culled, p.s_min), msg->header));
@@ -146,6 +162,7 @@ class FeatureNodelet : public StageNodelet<FeatureParams, iraf_vo::FeaturesConfi
   ros::Subscriber stats_sub_;
   std::mutex brightness_mutex_;
   std::deque<iraf_vo::EnhanceStatsConstPtr> brightness_;  // EnhanceStats of recent frames
+  long rejected_since_published_ = 0;  // frames rejected upstream or here since the last Features (Features.rejected_before)
   int queue_size_ = 5;
   bool resolution_rule_ = true;
   int rule_width_ = 0, rule_height_ = 0;  // image size the rule was applied for

@@ -1,5 +1,6 @@
 // The skeleton shared by the stage nodelets (image_proc style): a dynamic_reconfigure server on the private
-// namespace whose Config is copied into the stage's parameter struct through its ParamTable (validated, stored
+// namespace whose Config is copied into the stage's parameter struct through its ParamTable (validated field by
+// field: a rejected value is logged with its reason and reverted in the server; accepted changes are logged; stored
 // under a mutex, copied per frame), and lazy subscription: inputs are subscribed only while an output has listeners.
 #pragma once
 
@@ -11,6 +12,7 @@
 
 #include <boost/thread/recursive_mutex.hpp>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <set>
@@ -44,11 +46,22 @@ class StageNodelet : public nodelet::Nodelet {
  protected:
   // ---- reconfigurable parameters ----
   /// Starts the server; its first callback brings the startup values (private parameters / cfg defaults).
-  /// Before, it records which table fields the user gave as private parameters (userSet(): "section.name").
+  /// Before, it records which table fields the user gave as private parameters (userSet(): "section.name"). The
+  /// server writes every field back to the parameter server, where a later run on the same roscore finds them:
+  /// ~reconfigure_written lists the fields this nodelet wrote without the user giving them (with their values), and
+  /// such a leftover (same value) is not user-given.
   void startReconfigure() {
-    for (const ParamEntry<Params>& e : table_.entries())
-      if (getPrivateNodeHandle().hasParam(e.name)) user_set_.insert(table_.section() + "." + e.name);
-    reconfigure_ = std::make_shared<dynamic_reconfigure::Server<Config>>(reconfigure_mutex_, getPrivateNodeHandle());
+    ros::NodeHandle& pnh = getPrivateNodeHandle();
+    std::map<std::string, std::string> written;
+    pnh.getParam(kWrittenParam, written);
+    for (const ParamEntry<Params>& e : table_.entries()) {
+      std::string value;
+      if (!paramText(pnh, e.name, &value)) continue;
+      const auto it = written.find(e.name);
+      if (it != written.end() && it->second == value) continue;  // our own write-back of an earlier run
+      user_set_.insert(table_.section() + "." + e.name);
+    }
+    reconfigure_ = std::make_shared<dynamic_reconfigure::Server<Config>>(reconfigure_mutex_, pnh);
     reconfigure_->setCallback([this](Config& c, uint32_t) { configure(c); });
   }
   /// A copy of the current parameters (per frame).
@@ -81,9 +94,12 @@ class StageNodelet : public nodelet::Nodelet {
     if (!reconfigure_ || !have_config_) return;
     paramsToConfig(table_, p, &config_);
     reconfigure_->updateConfig(config_);
+    recordWritten(p);
   }
   /// Called after each accepted change with the new parameters and the Config (for nodelet-only fields).
   virtual void onParams(const Params& p, const Config& c) {}
+  /// Appended to each logged change when it does not apply at once (e.g. ": stored, applies at the next reset").
+  virtual std::string changeNote() { return ""; }
   const ParamTable<Params>& table() const { return table_; }
 
   // ---- lazy subscription ----
@@ -115,20 +131,74 @@ class StageNodelet : public nodelet::Nodelet {
   }
 
  private:
-  void configure(const Config& c) {
-    Params p = params();
+  // One dynamic_reconfigure request. Each changed field is applied on its own terms: a value the table cannot take
+  // (unknown enum name) or that makes the parameters invalid is rejected with its reason and the value in use is
+  // written back into `c` (the server then shows what is in use: a rejected field never blocks later changes);
+  // every accepted change is logged ("enhance: mu_expected 112 -> 60"), deferred ones with the subclass's note.
+  void configure(Config& c) {
+    const Params cur = params();
+    Params requested = cur;
     std::vector<std::string> errors;
-    configToParams(table_, c, &p, &errors);
-    for (const std::string& e : errors) NODELET_ERROR("%s: %s; keeping the previous value", section(), e.c_str());
-    const std::string err = table_.validate(p);
-    if (!err.empty()) {
-      NODELET_ERROR("%s: rejected parameters: %s", section(), err.c_str());
-      return;
+    configToParams(table_, c, &requested, &errors);  // a field it cannot take keeps its value (and says why)
+    for (const std::string& e : errors) NODELET_ERROR("%s: rejected: %s; keeping the value in use", section(), e.c_str());
+    Params p = requested;
+    if (!table_.validate(p).empty()) {  // some change makes the set invalid: apply the changed fields one by one
+      p = cur;
+      for (const ParamEntry<Params>& e : table_.entries()) {
+        const std::string want = table_.get(requested, e);
+        if (want == table_.get(cur, e)) continue;
+        Params trial = p;
+        copyField(e, requested, &trial);
+        std::string err = table_.validate(trial);
+        while (!err.empty() && (err.back() == ' ' || err.back() == ';')) err.pop_back();
+        if (err.empty()) p = trial;
+        else NODELET_ERROR("%s: rejected %s = %s: %s; keeping %s", section(), e.name.c_str(), want.c_str(),
+                           err.c_str(), table_.get(cur, e).c_str());
+      }
+      if (!table_.validate(p).empty()) p = cur;  // (each alone valid, but not together)
     }
+    if (have_config_) {
+      const std::string note = changeNote();
+      for (const ParamEntry<Params>& e : table_.entries()) {
+        const std::string before = table_.get(cur, e), after = table_.get(p, e);
+        if (before != after)
+          NODELET_INFO("%s: %s %s -> %s%s", section(), e.name.c_str(), before.c_str(), after.c_str(), note.c_str());
+      }
+    }
+    paramsToConfig(table_, p, &c);  // what is in use, back to the server (rqt / dynparam show it)
+    recordWritten(p);
     setParams(p);
     config_ = c;  // under reconfigure_mutex_ (the server holds it during callbacks)
     have_config_ = true;
     onParams(p, c);
+  }
+  static constexpr const char* kWrittenParam = "reconfigure_written";
+  /// The private parameter `name` as the text ParamTable::get() gives for that value; false when it is not set.
+  static bool paramText(const ros::NodeHandle& pnh, const std::string& name, std::string* text) {
+    XmlRpc::XmlRpcValue v;
+    if (!pnh.getParam(name, v)) return false;
+    switch (v.getType()) {
+      case XmlRpc::XmlRpcValue::TypeBoolean: *text = static_cast<bool>(v) ? "true" : "false"; return true;
+      case XmlRpc::XmlRpcValue::TypeInt: *text = std::to_string(static_cast<int>(v)); return true;
+      case XmlRpc::XmlRpcValue::TypeDouble: *text = formatDouble(static_cast<double>(v)); return true;
+      case XmlRpc::XmlRpcValue::TypeString: *text = static_cast<std::string>(v); return true;
+      default: *text = ""; return true;  // present but not a scalar: the user's (readPrivateParams reports it)
+    }
+  }
+  /// ~reconfigure_written: the fields the server writes back that the user did not give, with their values.
+  void recordWritten(const Params& p) {
+    std::map<std::string, std::string> written;
+    for (const ParamEntry<Params>& e : table_.entries())
+      if (!user_set_.count(table_.section() + "." + e.name)) written[e.name] = table_.get(p, e);
+    getPrivateNodeHandle().setParam(kWrittenParam, written);
+  }
+  static void copyField(const ParamEntry<Params>& e, const Params& from, Params* to) {
+    switch (e.type) {
+      case ParamType::kInt: to->*(e.int_field) = from.*(e.int_field); break;
+      case ParamType::kDouble: to->*(e.double_field) = from.*(e.double_field); break;
+      case ParamType::kBool: to->*(e.bool_field) = from.*(e.bool_field); break;
+      case ParamType::kText: e.set_text(e.get_text(from), to); break;
+    }
   }
   const char* section() const { return table_.section().c_str(); }
 

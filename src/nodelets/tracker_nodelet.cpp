@@ -7,6 +7,7 @@
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <nav_msgs/Path.h>
 #include <std_srvs/Trigger.h>
+#include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
 
@@ -14,7 +15,9 @@
 #include <pluginlib/class_list_macros.hpp>
 
 #include "iraf_vo/Features.h"
+#include "iraf_vo/SaveTrajectory.h"
 #include "iraf_vo/TrackerConfig.h"
+#include "iraf_vo/pipeline/input_watchdog.h"
 #include "iraf_vo/pipeline/run_monitor.h"
 #include "iraf_vo/pipeline/pipeline_params.h"
 #include "iraf_vo/ros/camera_source.h"
@@ -29,11 +32,19 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
  public:
   TrackerNodelet() : StageNodelet(trackerParamTable()) {}
   ~TrackerNodelet() override {
-    // Record the trajectory on shutdown (roslaunch Ctrl-C unloads the nodelets).
+    // The summary and the trajectory on shutdown (roslaunch Ctrl-C unloads the nodelets).
     std::lock_guard<std::mutex> lock(mutex_);
-    std::string err;
-    if (session_ && !opts_.trajectory_file.empty() && session_->trajectory().size() > 0 && !session_->saveTrajectory(&err))
-      ROS_ERROR("tracker: ~trajectory_file %s", err.c_str());
+    if (session_) {
+      ROS_INFO("tracker: %s", sessionSummary(session_->counters(), monitor_.missed()).c_str());
+      std::string err;
+      if (!opts_.trajectory_file.empty() && session_->trajectory().size() > 0) {
+        if (session_->saveTrajectory(&err))
+          ROS_INFO("tracker: trajectory written to %s (%zu poses)", opts_.trajectory_file.c_str(),
+                   session_->trajectory().size());
+        else
+          ROS_ERROR("tracker: ~trajectory_file %s", err.c_str());
+      }
+    }
     session_.reset();
   }
 
@@ -53,12 +64,15 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     pnh.param("max_out_of_order", opts_.max_out_of_order, 1.0);
     pnh.param<std::string>("trajectory_file", opts_.trajectory_file, "");
     pnh.param("save_every_keyframe", opts_.save_every_keyframe, true);
-    pnh.param("path_publish_every", path_publish_every_, 1);
+    pnh.param("path_max_poses", path_max_poses_, 10000);
+    pnh.param("path_publish_period", path_publish_period_, 1.0);
     pnh.param("status_period", status_period_, 10.0);
     pnh.param("use_rectified", info_opts.use_rectified, false);
     pnh.param<std::string>("camera_file", camera_file, "");
     pnh.param("resolution_rule", resolution_rule_, true);
-    path_publish_every_ = std::max(1, path_publish_every_);
+    double input_timeout = 3.0;
+    pnh.param("input_timeout", input_timeout, 3.0);
+    watchdog_.setDeadAfter(input_timeout);
 
     readStartupParams(TrackerParams(), [](const TrackerParams& p) { return validate(p); });  // ~name: YAML tracker:
 
@@ -67,7 +81,9 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     points_pub_ = nh.advertise<sensor_msgs::PointCloud2>("map_points", 1, true);
     keyframes_pub_ = nh.advertise<geometry_msgs::PoseArray>("keyframes", 1, true);
     status_pub_ = nh.advertise<iraf_vo::TrackingStatus>("tracking_status", 10);
+    events_pub_ = nh.advertise<iraf_vo::TrackingEvent>("tracking_events", 10, true);
     tf_ = std::make_shared<tf2_ros::TransformBroadcaster>();
+    static_tf_ = std::make_shared<tf2_ros::StaticTransformBroadcaster>();
     if (!base_frame_.empty()) tf_listener_ = std::make_shared<tf2_ros::TransformListener>(tf_buffer_);
     save_srv_ = pnh.advertiseService("save_trajectory", &TrackerNodelet::saveCb, this);
     reset_srv_ = pnh.advertiseService("reset", &TrackerNodelet::resetCb, this);
@@ -81,6 +97,20 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     });
     timer_ = nh.createWallTimer(ros::WallDuration(1.0), &TrackerNodelet::timerCb, this);
     sub_ = nh.subscribe("features", queue_size, &TrackerNodelet::featuresCb, this);
+    {
+      std::lock_guard<std::mutex> lock(watchdog_mutex_);
+      watchdog_.arm(sub_.getTopic(), ros::WallTime::now().toSec());
+    }
+    // Silence on the features topic: an error after ~input_timeout s (the enhance nodelet warns about the camera).
+    watchdog_timer_ = nh.createWallTimer(ros::WallDuration(0.1), [this](const ros::WallTimerEvent&) {
+      std::vector<SessionMessage> messages;
+      {
+        std::lock_guard<std::mutex> lock(watchdog_mutex_);
+        messages = watchdog_.check(ros::WallTime::now().toSec());
+      }
+      for (const SessionMessage& m : messages)
+        if (m.level == SessionMessage::Level::kError) NODELET_ERROR("tracker: %s", m.text.c_str());
+    });
   }
 
   void startSession(const CameraModelPtr& cam, const std::string& why) {
@@ -105,15 +135,24 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
       status_pub_.publish(toNoCalibrationStatusMsg(reason, ros::Time::now()));
       NODELET_WARN_THROTTLE(10.0, "tracker: %s", reason.c_str());
     }
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      publishPathThrottled(true);
+    }
     updater_->force_update();
   }
 
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& d) {
     std::lock_guard<std::mutex> lock(mutex_);
     const CameraModelPtr cam = camera_src_.camera();
-    fillDiagnostics(monitor_.health(camera_src_.reason(), cam ? cam->describe() : "",
-                                    session_ ? session_->counters() : SessionCounters(), ros::WallTime::now().toSec()),
-                    d);
+    const double now = ros::WallTime::now().toSec();
+    HealthReport r = monitor_.health(camera_src_.reason(), cam ? cam->describe() : "",
+                                     session_ ? session_->counters() : SessionCounters(), now);
+    std::string silence;
+    std::lock_guard<std::mutex> wlock(watchdog_mutex_);
+    const HealthReport::Level l = watchdog_.level(now, &silence);
+    if (l >= r.level && l != HealthReport::kOk) r.level = l, r.summary = silence;
+    fillDiagnostics(r, d);
   }
 
   bool hasListeners() override { return true; }  // the sink of the graph: always subscribed
@@ -125,6 +164,13 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     if (session_) session_->setParams(p);  // before the session exists: the startup values (params())
   }
 
+  std::string changeNote() override {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return session_ && session_->paramsDeferred()
+               ? ": stored, applies at the next reset (~reset service, or when tracking is lost)"
+               : "";
+  }
+
   bool resetCb(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (session_) session_->requestRestart();
@@ -133,11 +179,16 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     return true;
   }
 
-  bool saveCb(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
+  bool saveCb(iraf_vo::SaveTrajectory::Request& req, iraf_vo::SaveTrajectory::Response& res) {
     std::lock_guard<std::mutex> lock(mutex_);
-    std::string err = "~trajectory_file is not set";
-    res.success = !opts_.trajectory_file.empty() && session_ && session_->saveTrajectory(&err);
-    res.message = res.success ? "wrote " + std::to_string(session_->trajectory().size()) + " poses" : err;
+    const std::string path = req.path.empty() ? opts_.trajectory_file : req.path;
+    std::string err = path.empty() ? "no path given and ~trajectory_file is not set"
+                                   : !session_ ? camera_src_.reason() : "";
+    res.success = !path.empty() && session_ && session_->saveTrajectory(path, &err);
+    res.path = res.success ? path : "";
+    res.message = res.success ? "wrote " + std::to_string(session_->trajectory().size()) + " poses to " + path : err;
+    if (res.success) NODELET_INFO("tracker: trajectory written to %s (%zu poses)", path.c_str(), session_->trajectory().size());
+    else NODELET_ERROR("tracker: save_trajectory: %s", err.c_str());
     return true;
   }
 
@@ -152,7 +203,11 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     std::lock_guard<std::mutex> lock(mutex_);
     const double now = ros::WallTime::now().toSec();
     const int64_t stamp_ns = static_cast<int64_t>(msg->header.stamp.toNSec());
-    for (const SessionMessage& m : monitor_.onInput(now, stamp_ns)) log(m);
+    for (const SessionMessage& m : monitor_.onInput(now, stamp_ns, msg->rejected_before)) log(m);
+    {
+      std::lock_guard<std::mutex> wlock(watchdog_mutex_);
+      for (const SessionMessage& m : watchdog_.onFrame(now, monitor_.period())) NODELET_INFO("tracker: %s", m.text.c_str());
+    }
     if (!session_) return;  // no calibration: timerCb reports why
     FeatureFrame frame;
     std::string err, warning;
@@ -161,6 +216,7 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     const SessionStep step = session_->process(stamp_ns, ok ? &frame : nullptr, err);
     for (const SessionMessage& m : step.messages) log(m);
     if (step.time_jump) path_ = nav_msgs::Path();
+    publishEvents(step, msg->header);
     if (step.time_jump || step.result.initialized_now) odom_out_.reset();
     monitor_.onStep(step);
     if (!step.tracked_frame) return;
@@ -183,13 +239,41 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     NODELET_INFO_THROTTLE(status_period_, "tracker: %s", monitor_.statusLine(step, now).c_str());
   }
 
+  // tracking_events: the time jump and the new map / scale epoch of this frame.
+  void publishEvents(const SessionStep& step, const std_msgs::Header& frame_header) {
+    std_msgs::Header h = frame_header;
+    h.frame_id = world_frame_;
+    if (step.time_jump)
+      events_pub_.publish(toEventMsg(iraf_vo::TrackingEvent::TIME_RESET, step.counters.epoch, "time_reset", h));
+    if (step.new_epoch) {
+      events_pub_.publish(toEventMsg(iraf_vo::TrackingEvent::NEW_MAP, step.counters.epoch, step.epoch_cause, h));
+      NODELET_INFO("tracker: map / scale epoch %ld (%s)", step.counters.epoch, step.epoch_cause.c_str());
+    }
+  }
+
+  // /path at most every ~path_publish_period s (wall), the rest from the 1 Hz timer (force): the whole path is not
+  // re-sent at the camera rate. Under mutex_.
+  void publishPathThrottled(bool force) {
+    const ros::WallTime now = ros::WallTime::now();
+    if (!path_dirty_ || (!force && (now - last_path_pub_).toSec() < path_publish_period_)) return;
+    path_pub_.publish(boost::make_shared<nav_msgs::Path>(path_));
+    last_path_pub_ = now;
+    path_dirty_ = false;
+  }
+
   // The static camera -> base transform, once: from the camera yaml's T_BS (~base_from_camera_file) or from TF.
   bool resolveBase(const std::string& camera_frame) {
     if (base_frame_.empty() || have_base_) return true;
     if (base_from_file_) {
       const CameraModelPtr cam = camera_src_.camera();
       odom_out_.setBaseFromCamera(Eigen::Isometry3d(cam->T_BS));
-      NODELET_INFO("tracker: %s -> %s from the camera file's T_BS", camera_frame.c_str(), base_frame_.c_str());
+      // The camera frame joins the TF tree: base_frame -> camera frame (static, latched on /tf_static).
+      std_msgs::Header h;
+      h.stamp = ros::Time::now();
+      h.frame_id = base_frame_;
+      static_tf_->sendTransform(toTransformMsg(Eigen::Isometry3d(cam->T_BS), h, camera_frame));
+      NODELET_INFO("tracker: %s -> %s from the camera file's T_BS (published as a static TF)", camera_frame.c_str(),
+                   base_frame_.c_str());
       return have_base_ = true;
     }
     try {
@@ -214,22 +298,29 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     ps.pose = odom->pose.pose;
     path_.header = h;
     path_.poses.push_back(ps);
-    if (++path_counter_ % path_publish_every_ == 0) path_pub_.publish(boost::make_shared<nav_msgs::Path>(path_));
+    if (path_max_poses_ > 0 && static_cast<int>(path_.poses.size()) > path_max_poses_)
+      path_.poses.erase(path_.poses.begin(), path_.poses.begin() + (path_.poses.size() - path_max_poses_));
+    path_dirty_ = true;
+    publishPathThrottled(false);
     if (publish_tf_) tf_->sendTransform(toTransformMsg(s.T_odom_base, h, child));
   }
 
   ros::Subscriber sub_;
-  ros::Publisher odom_pub_, path_pub_, points_pub_, keyframes_pub_, status_pub_;
+  ros::Publisher odom_pub_, path_pub_, points_pub_, keyframes_pub_, status_pub_, events_pub_;
   ros::ServiceServer save_srv_, reset_srv_;
-  ros::WallTimer timer_;
+  ros::WallTimer timer_, watchdog_timer_;
+  std::mutex watchdog_mutex_;  // watchdog_ (frame callback, its timer, diagnostics)
+  InputWatchdog watchdog_{"features"};
   std::shared_ptr<tf2_ros::TransformBroadcaster> tf_;
+  std::shared_ptr<tf2_ros::StaticTransformBroadcaster> static_tf_;
   tf2_ros::Buffer tf_buffer_;
   std::shared_ptr<tf2_ros::TransformListener> tf_listener_;
   std::shared_ptr<diagnostic_updater::Updater> updater_;
   std::string world_frame_, camera_frame_, base_frame_;
   bool resolution_rule_ = true;  // size- and focal-dependent fields from the camera (pipeline_params.h)
   bool publish_tf_ = true, base_from_file_ = false;
-  int path_publish_every_ = 1;
+  int path_max_poses_ = 10000;       // /path keeps the newest poses (<= 0: unbounded)
+  double path_publish_period_ = 1.0;  // [s] /path is published at most this often (and by the 1 Hz timer)
   double status_period_ = 10.0;
   SessionOptions opts_;
   CameraSource camera_src_;
@@ -240,7 +331,8 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
   bool have_base_ = false;
   TrackerMonitor monitor_;
   nav_msgs::Path path_;
-  long path_counter_ = 0;
+  bool path_dirty_ = false;
+  ros::WallTime last_path_pub_;
 };
 
 }  // namespace iraf_vo

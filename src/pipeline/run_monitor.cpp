@@ -6,27 +6,46 @@
 
 namespace iraf_vo {
 
-long StampGapCounter::update(int64_t stamp_ns) {
-  long missing = 0;
-  if (have_last_ && stamp_ns > last_ns_) {
-    const int64_t step = stamp_ns - last_ns_;
-    const double p = period();
-    if (p > 0.0 && step * 1e-9 > 1.5 * p && step * 1e-9 <= max_gap_)
-      missing = std::lround(step * 1e-9 / p) - 1;
-    if (step * 1e-9 <= max_gap_) {
-      steps_.push_back(step);
-      while (static_cast<int>(steps_.size()) > window_) steps_.pop_front();
-    }
+long StampGapCounter::update(int64_t stamp_ns, long rejected_before) {
+  if (!have_last_) {
+    last_ns_ = stamp_ns;
+    have_last_ = true;
+    return 0;
   }
-  if (!have_last_ || stamp_ns > last_ns_) last_ns_ = stamp_ns;
-  have_last_ = true;
+  if (stamp_ns <= last_ns_) {
+    // A step back beyond max_gap (bag loop, restarted player): the stream starts again from this stamp. Smaller ones
+    // (a late frame, a duplicate) are ignored.
+    if ((last_ns_ - stamp_ns) * 1e-9 > max_gap_) last_ns_ = stamp_ns;
+    return 0;
+  }
+  const int64_t step = stamp_ns - last_ns_;
+  last_ns_ = stamp_ns;
+  if (step * 1e-9 > max_gap_) return 0;  // a pause
+  const double p = period();
+  long missing = 0;
+  if (p > 0.0 && step * 1e-9 > kGapPeriods * p) {
+    missing = std::max(0L, std::lround(step * 1e-9 / p) - 1 - std::max(0L, rejected_before));
+    long_steps_.push_back(step);
+    // `window` long steps in a row: the camera rate changed (not an overload): take the new rate.
+    if (static_cast<int>(long_steps_.size()) >= window_) {
+      steps_.assign(long_steps_.begin(), long_steps_.end());
+      long_steps_.clear();
+      missing = 0;
+    }
+  } else {
+    long_steps_.clear();
+    steps_.push_back(step);
+    while (static_cast<int>(steps_.size()) > window_) steps_.pop_front();
+  }
   missed_ += missing;
   return missing;
 }
 
 double StampGapCounter::period() const {
   if (steps_.empty()) return 0.0;
-  return *std::min_element(steps_.begin(), steps_.end()) * 1e-9;
+  std::vector<int64_t> v(steps_.begin(), steps_.end());
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2] * 1e-9;
 }
 
 void RateMeter::tick(double now) {
@@ -71,6 +90,16 @@ std::string trackerStatusLine(TrackingState state, int inliers, const SessionCou
   return buf;
 }
 
+std::string sessionSummary(const SessionCounters& c, long missed) {
+  char buf[256];
+  std::snprintf(buf, sizeof(buf),
+                "summary: %ld frames, %ld tracked (%.1f %%), %ld lost events, %ld resets, %ld time resets, %ld dropped, "
+                "%ld missed",
+                c.frames, c.tracked, c.frames > 0 ? 100.0 * c.tracked / c.frames : 0.0, c.lost_events, c.resets,
+                c.time_resets, c.dropped, missed);
+  return buf;
+}
+
 void HealthReport::add(const std::string& key, double value) {
   char buf[32];
   std::snprintf(buf, sizeof(buf), "%.2f", value);
@@ -110,9 +139,9 @@ HealthReport trackerHealth(const TrackerHealthInput& in) {
   return r;
 }
 
-std::vector<SessionMessage> TrackerMonitor::onInput(double now, int64_t stamp_ns) {
+std::vector<SessionMessage> TrackerMonitor::onInput(double now, int64_t stamp_ns, long rejected_before) {
   in_rate_.tick(now);
-  const long missing = gaps_.update(stamp_ns);
+  const long missing = gaps_.update(stamp_ns, rejected_before);
   if (missing <= 0) return {};
   return {missedFramesMessage(missing, stamp_ns, gaps_)};
 }

@@ -29,6 +29,8 @@ void TrackingSession::setParams(const TrackerParams& params) {
 
 void TrackingSession::requestRestart() { restart_requested_ = true; }
 
+bool TrackingSession::paramsDeferred() const { return tracker_ && tracker_->state() == TrackingState::kTracking; }
+
 SessionCounters TrackingSession::counters() const {
   SessionCounters c = counters_;
   c.resets = internal_resets_base_ + internal_resets_last_ + restarts_;
@@ -48,6 +50,7 @@ void TrackingSession::restartAfterTimeJump(int64_t stamp_ns, SessionStep* step) 
                                                               "; bag loop / restart?): new map, the path restarts",
                             "time_jump"});
   ++counters_.time_resets;
+  epoch_cause_ = "time_reset";
   tracker_.reset();
   trajectory_ = Trajectory();
   have_last_pose_ = false;
@@ -56,7 +59,7 @@ void TrackingSession::restartAfterTimeJump(int64_t stamp_ns, SessionStep* step) 
 }
 
 void TrackingSession::createTracker(const Eigen::Isometry3d& anchor, SessionStep* step) {
-  if (tracker_) ++restarts_;
+  if (tracker_) ++restarts_, epoch_cause_ = "restart";
   tracker_.reset();  // joins the mapping thread of the old one
   try {
     tracker_ = std::make_unique<Tracker>(camera_, pending_params_);
@@ -115,9 +118,11 @@ SessionStep TrackingSession::process(int64_t stamp_ns, const FeatureFrame* frame
     return drop(&step, SessionMessage::Level::kError, at + e.what() + "; restarting the tracker"), step;
   }
   step.tracked_frame = true;
-  if (tracker_->stats().resets > internal_resets_last_)
+  if (tracker_->stats().resets > internal_resets_last_) {
     step.messages.push_back({SessionMessage::Level::kWarn,
                              "map reset: lost for lost_frames_before_reset frames, initializing a new map", "reset"});
+    epoch_cause_ = "map_reset";
+  }
   internal_resets_last_ = tracker_->stats().resets;
   countFrame(step.result, &step);
   const TrackResult& r = step.result;
@@ -165,6 +170,10 @@ void TrackingSession::countFrame(const TrackResult& r, SessionStep* step) {
                                   " frame(s) after the light returned (" + std::to_string(r.inliers) + " inliers)",
                               "relocalized"});
   if (r.initialized_now) {
+    ++counters_.epoch;
+    step->new_epoch = true;
+    step->epoch_cause = counters_.epoch == 1 ? "initial" : epoch_cause_;
+    epoch_cause_ = "reinitialized";  // unless a reset / restart / time jump says otherwise before the next map
     if (counters_.initializations > 0)
       step->messages.push_back({L::kWarn, "re-initialized: new map (" + std::to_string(r.inliers) + " inliers)",
                                 "reinit"});
@@ -184,14 +193,17 @@ void TrackingSession::collectMap(SessionStep* step) {
   counters_.map_keyframes = static_cast<int>(step->keyframe_poses.size());
 }
 
-bool TrackingSession::saveTrajectory(std::string* error) const {
-  if (options_.trajectory_file.empty()) {
+bool TrackingSession::saveTrajectory(std::string* error) const { return saveTrajectory("", error); }
+
+bool TrackingSession::saveTrajectory(const std::string& path, std::string* error) const {
+  const std::string& file = path.empty() ? options_.trajectory_file : path;
+  if (file.empty()) {
     *error = "no trajectory file set";
     return false;
   }
   std::string err;
-  if (writeTumTrajectory(options_.trajectory_file, trajectory_, &err)) return true;
-  *error = options_.trajectory_file + ": " + err;
+  if (writeTumTrajectory(file, trajectory_, &err)) return true;
+  *error = file + ": " + err;
   return false;
 }
 

@@ -23,12 +23,31 @@ bool ImageInput::usesCompressed(const std::string& topic, const std::string& tra
   return transport == "compressed" || endsWith(topic, "/compressed");
 }
 
+std::string ImageInput::resolvedTopic() const {
+  try {
+    return nh_.resolveName(topic_);  // remappings applied: `image:=/cam0/image_raw/compressed` arrives here
+  } catch (const std::exception&) {  // ros::InvalidNameException: subscribe() reports it
+    return topic_;
+  }
+}
+
 void ImageInput::subscribe() {
   std::lock_guard<std::mutex> lock(mutex_);
   if (!active_.empty()) return;
-  if (usesCompressed(topic_, transport_)) {
-    std::string resolved = nh_.resolveName(topic_);
-    if (!endsWith(resolved, "/compressed")) resolved += "/compressed";
+  // The transport follows the RESOLVED topic (image_transport convention: base topic + transport). A topic ending
+  // in /compressed is the compressed transport of its base topic, whatever ~image_transport says.
+  const std::string resolved_topic = resolvedTopic();
+  if (usesCompressed(resolved_topic, transport_)) {
+    std::string resolved = resolved_topic;
+    if (!endsWith(resolved, "/compressed")) {
+      resolved += "/compressed";
+    } else if (transport_ != "compressed" && !compressed_logged_) {
+      ROS_INFO("%s is a compressed topic: subscribing with the compressed transport of %s (sensor_msgs/"
+               "CompressedImage, decoded with OpenCV) instead of '%s'",
+               resolved.c_str(), resolved.substr(0, resolved.size() - std::string("/compressed").size()).c_str(),
+               transport_.c_str());
+      compressed_logged_ = true;
+    }
     try {
       compressed_sub_ = nh_.subscribe(resolved, queue_size_, &ImageInput::compressedCallback, this);
       active_ = "compressed";

@@ -51,6 +51,13 @@ std::string stateName(TrackingState s) {
   return n;
 }
 
+std::string statusReason(const TrackResult& r) {
+  if (!r.too_dark.empty()) return r.too_dark;
+  if (!r.rejected.empty()) return r.rejected;
+  if (r.state != TrackingState::kTracking && !r.init_status.empty()) return "initializing: " + r.init_status;
+  return "";
+}
+
 iraf_vo::TrackingStatusPtr toStatusMsg(const SessionStep& step, const std_msgs::Header& header, int keypoints,
                                        double ms_features) {
   const TrackResult& r = step.result;
@@ -65,6 +72,7 @@ iraf_vo::TrackingStatusPtr toStatusMsg(const SessionStep& step, const std_msgs::
   s->is_keyframe = r.is_keyframe;
   s->initialized_now = r.initialized_now;
   s->used_pnp = r.used_pnp;
+  s->epoch = static_cast<uint32_t>(c.epoch);
   s->frames = c.frames;
   s->tracked = c.tracked;
   s->lost_frames = c.lost_frames;
@@ -73,7 +81,7 @@ iraf_vo::TrackingStatusPtr toStatusMsg(const SessionStep& step, const std_msgs::
   s->time_resets = c.time_resets;
   s->dropped_frames = c.dropped;
   s->rejected_poses = c.rejected;
-  s->reason = !r.too_dark.empty() ? r.too_dark : r.rejected;
+  s->reason = statusReason(r);
   s->keyframes = c.keyframes;
   s->map_keyframes = c.map_keyframes;
   s->map_points = c.map_points;
@@ -85,6 +93,21 @@ iraf_vo::TrackingStatusPtr toStatusMsg(const SessionStep& step, const std_msgs::
   s->ms_keyframe = r.timing.ms_keyframe;
   s->ms_total = r.timing.ms_total;
   return s;
+}
+
+iraf_vo::TrackingEventPtr toEventMsg(const std::string& kind, long epoch, const std::string& cause,
+                                     const std_msgs::Header& header) {
+  iraf_vo::TrackingEventPtr e = boost::make_shared<iraf_vo::TrackingEvent>();
+  e->header = header;
+  e->kind = kind;
+  e->epoch = static_cast<uint32_t>(epoch);
+  e->cause = cause;
+  if (kind == iraf_vo::TrackingEvent::TIME_RESET)
+    e->text = "the stamps jumped back: the path and the recorded trajectory restart, a new map follows";
+  else
+    e->text = "map / scale epoch " + std::to_string(epoch) + " starts (" + cause +
+              "): poses are not comparable with the previous epoch's";
+  return e;
 }
 
 iraf_vo::TrackingStatusPtr toNoCalibrationStatusMsg(const std::string& reason, const ros::Time& stamp) {
@@ -113,9 +136,7 @@ nav_msgs::OdometryPtr toOdometryMsg(const OdometrySample& s, const std_msgs::Hea
     odom->twist.twist.angular.z = s.twist(5);
     for (int r = 0; r < 6; ++r)
       for (int c = 0; c < 6; ++c) odom->twist.covariance[6 * r + c] = s.twist_covariance(r, c);
-  } else {
-    odom->twist.covariance[0] = -1.0;  // unknown (first pose of a map)
-  }
+  }  // else (first pose of a map): twist and its covariance all zero = not filled (nav_msgs/Odometry has no marker)
   return odom;
 }
 

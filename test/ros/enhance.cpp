@@ -1,10 +1,13 @@
-// rostest of EnhanceNodelet: encodings, bad input, lazy subscription, live dynamic_reconfigure.
+// rostest of EnhanceNodelet: encodings, bad input, lazy subscription, live dynamic_reconfigure (rejected values
+// reverted in the server, changes logged).
 #include <gtest/gtest.h>
 
 #include "common/wait_for.h"
 
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <dynamic_reconfigure/client.h>
 #include <ros/ros.h>
+#include <rosgraph_msgs/Log.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/image_encodings.h>
 
@@ -17,6 +20,7 @@
 #include "common/test_data.h"
 #include "iraf_vo/EnhanceConfig.h"
 #include "iraf_vo/EnhanceStats.h"
+#include "iraf_vo/common/param_table.h"
 
 namespace enc = sensor_msgs::image_encodings;
 using iraf_vo::test::waitFor;
@@ -158,6 +162,108 @@ TEST_F(EnhanceNodeletTest, LazySubscriptionEncodingsBadInputAndLiveTuning) {
   const auto passthrough = roundTrip(img, enc::MONO8, id++);
   ASSERT_TRUE(passthrough);
   EXPECT_EQ(cv::norm(toMat(*passthrough), img, cv::NORM_INF), 0.0);
+}
+
+// A camera that stops publishing: a ROS_WARN naming the topic within 3 periods of the last frame, /diagnostics
+// "enhance: input" ERROR naming it after ~input_timeout (1 s here), not any more when frames return (the earlier
+// test's bad frames keep it at WARN "frames rejected").
+TEST_F(EnhanceNodeletTest, AStoppedCameraIsReported) {
+  std::mutex m;
+  std::vector<rosgraph_msgs::LogConstPtr> log;
+  diagnostic_msgs::DiagnosticStatus input;
+  ros::Subscriber rosout = nh_.subscribe<rosgraph_msgs::Log>("/rosout", 200, [&](const rosgraph_msgs::LogConstPtr& l) {
+    std::lock_guard<std::mutex> lock(m);
+    if (l->msg.find("no image on") != std::string::npos) log.push_back(l);
+  });
+  ros::Subscriber diag = nh_.subscribe<diagnostic_msgs::DiagnosticArray>("/diagnostics", 50,
+                                                                         [&](const diagnostic_msgs::DiagnosticArrayConstPtr& a) {
+    std::lock_guard<std::mutex> lock(m);
+    for (const auto& st : a->status)
+      if (st.name == "enhance: input") input = st;
+  });
+  subscribeOutputs();
+  ASSERT_TRUE(waitFor([&] { return pub_.getNumSubscribers() > 0; }, 15.0));
+  const cv::Mat img = iraf_vo_test::texturedImage(160, 120);
+  ros::WallTime last;
+  for (uint32_t id = 500; id < 540; ++id) {  // 2 s at 20 Hz
+    publish(img, enc::MONO8, id);
+    last = ros::WallTime::now();
+    ros::WallDuration(0.05).sleep();
+  }
+  ASSERT_TRUE(waitFor([&] { std::lock_guard<std::mutex> lock(m); return !log.empty(); }, 2.0)) << "no warning";
+  {
+    std::lock_guard<std::mutex> lock(m);
+    EXPECT_EQ(log[0]->level, rosgraph_msgs::Log::WARN);
+    EXPECT_NE(log[0]->msg.find("/image"), std::string::npos) << log[0]->msg;
+    const double after = (ros::WallTime(log[0]->header.stamp.sec, log[0]->header.stamp.nsec) - last).toSec();
+    EXPECT_LT(after, 0.15 + 0.05) << "warned " << after << " s after the last frame (3 periods: 0.15 s) " << log[0]->msg;
+  }
+  ASSERT_TRUE(waitFor([&] { std::lock_guard<std::mutex> lock(m); return input.level == diagnostic_msgs::DiagnosticStatus::ERROR; }, 4.0))
+      << "diagnostics: " << input.message;
+  {
+    std::lock_guard<std::mutex> lock(m);
+    EXPECT_NE(input.message.find("no image on /image"), std::string::npos) << input.message;
+  }
+  bool ok = false;
+  for (uint32_t id = 600; id < 660 && !ok; ++id) {  // frames again (up to 3 s): OK at the next diagnostics update
+    publish(img, enc::MONO8, id);
+    ros::WallDuration(0.05).sleep();
+    std::lock_guard<std::mutex> lock(m);
+    ok = input.level != diagnostic_msgs::DiagnosticStatus::ERROR && input.message.find("no image") == std::string::npos;
+  }
+  EXPECT_TRUE(ok) << "diagnostics after the frames returned: " << input.message;
+}
+
+// dynamic_reconfigure shows the values in use: a rejected value (unknown enum name, NaN) is logged with its reason
+// and reverted in the server, other fields of the same or later requests still apply, and every accepted change is
+// logged as "enhance: <name> <old> -> <new>".
+TEST_F(EnhanceNodeletTest, RejectedReconfigureValuesAreRevertedAndChangesLogged) {
+  std::mutex log_mutex;
+  std::vector<std::string> log;
+  ros::Subscriber rosout = nh_.subscribe<rosgraph_msgs::Log>("/rosout", 200, [&](const rosgraph_msgs::LogConstPtr& m) {
+    std::lock_guard<std::mutex> l(log_mutex);
+    log.push_back(m->msg);
+  });
+  const auto logged = [&](const std::string& text) {
+    return waitFor([&] {
+      std::lock_guard<std::mutex> l(log_mutex);
+      for (const std::string& m : log)
+        if (m.find(text) != std::string::npos) return true;
+      return false;
+    }, 5.0);
+  };
+  dynamic_reconfigure::Client<iraf_vo::EnhanceConfig> client("enhance");
+  iraf_vo::EnhanceConfig in_use, cfg;
+  ASSERT_TRUE(client.getCurrentConfiguration(in_use, ros::Duration(5.0)));
+  const auto current = [&] {
+    iraf_vo::EnhanceConfig c;
+    EXPECT_TRUE(client.getCurrentConfiguration(c, ros::Duration(5.0)));
+    return c;
+  };
+
+  // An unknown method in the same request as a valid mu_expected change: the method is rejected and reverted,
+  // mu_expected applies.
+  cfg = in_use;
+  cfg.method = "bogus";
+  cfg.mu_expected = 60.0;
+  ASSERT_TRUE(client.setConfiguration(cfg));
+  ASSERT_TRUE(waitFor([&] { return current().mu_expected == 60.0; }, 5.0)) << current().mu_expected;
+  EXPECT_EQ(current().method, in_use.method) << "the server still shows the rejected method";
+  EXPECT_TRUE(logged("bogus")) << "the rejection is not logged";
+  EXPECT_TRUE(logged("enhance: mu_expected " + iraf_vo::formatDouble(in_use.mu_expected) + " -> 60"));
+
+  // NaN fails validation: reverted, logged with the reason; a later change of another field is not blocked.
+  cfg = current();
+  cfg.mu_expected = std::nan("");
+  ASSERT_TRUE(client.setConfiguration(cfg));
+  EXPECT_TRUE(logged("rejected mu_expected = nan"));
+  ASSERT_TRUE(waitFor([&] { return current().mu_expected == 60.0; }, 5.0)) << current().mu_expected;
+  cfg = current();
+  cfg.brightness_threshold = in_use.brightness_threshold + 0.05;
+  ASSERT_TRUE(client.setConfiguration(cfg));
+  EXPECT_TRUE(logged("enhance: brightness_threshold " + iraf_vo::formatDouble(in_use.brightness_threshold) + " -> " +
+                     iraf_vo::formatDouble(in_use.brightness_threshold + 0.05)));
+  EXPECT_NEAR(current().brightness_threshold, in_use.brightness_threshold + 0.05, 1e-12);
 }
 
 int main(int argc, char** argv) {

@@ -1,5 +1,5 @@
 // ImageInput (src/ros/image_input.cpp) in a live ROS graph: compressed jpeg / png arrive decoded as mono8 with
-// their header; a topic ending in /compressed needs no transport; image_transport plugins that Debian lacks
+// their header; a topic ending in /compressed (also through a remapping) needs no transport; image_transport plugins that Debian lacks
 // ("theora") or that do not exist ("bogus") log an error and fall back to raw, which still delivers; lazy
 // subscribe / shutdown; a bag written by `iraf_vo_asl_to_bag --compressed` played with `rosbag play` goes through.
 #include <gtest/gtest.h>
@@ -123,6 +123,24 @@ TEST(ImageInput, TopicEndingInCompressedNeedsNoTransport) {
   ASSERT_TRUE(waitFor([&] { return pub.getNumSubscribers() > 0; }));
   pub.publish(compressed(gradient(), ".png", 2));
   ASSERT_TRUE(waitFor([&] { return rx.size() == 2; }));
+}
+
+TEST(ImageInput, RemappedCompressedTopicSelectsTheTransport) {
+  // A launch file's `image:=/cam_d/image_raw/compressed` with ~image_transport raw: the transport follows the
+  // resolved topic (an unresolved "image" looked raw and subscribed a sensor_msgs/Image to a CompressedImage topic).
+  ros::NodeHandle nh;
+  ros::Publisher pub = nh.advertise<sensor_msgs::CompressedImage>("/cam_d/image_raw/compressed", 10);
+  const ros::NodeHandle remapped(ros::NodeHandle(), "", ros::M_string{{"image", "/cam_d/image_raw/compressed"}});
+  ASSERT_EQ(remapped.resolveName("image"), "/cam_d/image_raw/compressed");
+  Received rx;
+  ImageInput input(remapped, "image", "raw", 10, rx.callback());
+  input.subscribe();
+  EXPECT_EQ(input.activeTransport(), "compressed");
+  EXPECT_EQ(input.subscribedTopic(), "/cam_d/image_raw/compressed");
+  ASSERT_TRUE(waitFor([&] { return pub.getNumSubscribers() > 0; }));
+  pub.publish(compressed(gradient(), ".png", 1));
+  ASSERT_TRUE(waitFor([&] { return rx.size() == 1; })) << "no image through the remapped compressed topic";
+  EXPECT_EQ(input.dropped(), 0u);
 }
 
 TEST(ImageInput, MissingPluginFallsBackToRaw) {

@@ -5,6 +5,7 @@
 //   1. SyntheticDarkSequence: odometry + path published, TF world -> camera available, Sim(3) ATE of the path
 //      vs the simulator's ground truth below a bound, tracking recovered after the dark segment.
 //   1b. ResolutionRuleFromTheCamera: the size-dependent fields come from the image / calibration, ~params are kept.
+//   1c. SaveTrajectoryToAPath: ~save_trajectory writes to the path it is given (and says why without one).
 //   2. LiveTuning: dynamic_reconfigure of features (fixed FAST threshold) and enhance (mu_expected) while frames
 //      flow: Features / EnhanceStats reflect the change within a few frames.
 //   3. BadInput: wrong encoding, empty image, wrong size, duplicated and out-of-order stamps, a jump back in time,
@@ -17,6 +18,7 @@
 #include <nav_msgs/Odometry.h>
 #include <nav_msgs/Path.h>
 #include <ros/ros.h>
+#include <rosgraph_msgs/Log.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/image_encodings.h>
 #include <std_srvs/Trigger.h>
@@ -33,6 +35,7 @@
 #include "iraf_vo/EnhanceConfig.h"
 #include "iraf_vo/EnhanceStats.h"
 #include "iraf_vo/Features.h"
+#include "iraf_vo/SaveTrajectory.h"
 #include "iraf_vo/FeaturesConfig.h"
 #include "iraf_vo/TrackerConfig.h"
 #include "iraf_vo/TrackingStatus.h"
@@ -245,6 +248,24 @@ TEST_F(PipelineTest, ResolutionRuleFromTheCamera) {
   EXPECT_NE(d.search_radius_px, iraf_vo::TrackerParams().search_radius_px);
 }
 
+// ---- 1c: ~save_trajectory with a path (no ~trajectory_file in this launch) ------------------------------------
+TEST_F(PipelineTest, SaveTrajectoryToAPath) {
+  iraf_vo::SaveTrajectory srv;
+  ASSERT_TRUE(ros::service::call("/tracker/save_trajectory", srv));
+  EXPECT_FALSE(srv.response.success) << "no path and no ~trajectory_file";
+  EXPECT_NE(srv.response.message.find("~trajectory_file is not set"), std::string::npos) << srv.response.message;
+  const std::string path = g_sim_dir + "/saved_by_service.txt";
+  srv.request.path = path;
+  ASSERT_TRUE(ros::service::call("/tracker/save_trajectory", srv));
+  EXPECT_TRUE(srv.response.success) << srv.response.message;
+  EXPECT_EQ(srv.response.path, path);
+  iraf_vo::Trajectory saved;
+  std::string err;
+  ASSERT_TRUE(iraf_vo::readTumTrajectory(path, &saved, &err)) << err;
+  EXPECT_GT(saved.size(), static_cast<size_t>(kFrames / 2));
+  EXPECT_NE(srv.response.message.find("poses to " + path), std::string::npos) << srv.response.message;
+}
+
 TEST_F(PipelineTest, LiveTuning) {
   // Frames continue after sequence 1 (later stamps); normal-light frames of the start of the sequence.
   const ros::Time base = g_frames.back().stamp + ros::Duration(0.05);
@@ -292,14 +313,31 @@ TEST_F(PipelineTest, LiveTuning) {
   }
 
   // Tracker: a parameter change (applied at the next restart) and the ~reset service (restart on the next frame).
+  // While TRACKING the change is stored and logged as deferred.
+  std::mutex log_mutex;
+  std::vector<std::string> log;
+  ros::Subscriber rosout = nh_.subscribe<rosgraph_msgs::Log>("/rosout", 200, [&](const rosgraph_msgs::LogConstPtr& m) {
+    std::lock_guard<std::mutex> l(log_mutex);
+    log.push_back(m->msg);
+  });
+  ros::WallDuration(0.5).sleep();  // the /rosout connection
   const iraf_vo::TrackingStatusConstPtr before = lastStatus();
   ASSERT_TRUE(before);
+  ASSERT_EQ(before->state, iraf_vo::TrackingStatus::TRACKING);
   dynamic_reconfigure::Client<iraf_vo::TrackerConfig> tclient("/tracker");
   iraf_vo::TrackerConfig tc;
   ASSERT_TRUE(tclient.getCurrentConfiguration(tc, ros::Duration(5.0)));
+  const std::string old_window = std::to_string(tc.ba_window_size);
   tc.ba_window_size = 8;
   ASSERT_TRUE(tclient.setConfiguration(tc));
   EXPECT_EQ(tc.ba_window_size, 8);
+  EXPECT_TRUE(waitFor([&] {
+    std::lock_guard<std::mutex> l(log_mutex);
+    for (const std::string& m : log)
+      if (m.find("tracker: ba_window_size " + old_window + " -> 8: stored, applies at the next reset") != std::string::npos)
+        return true;
+    return false;
+  }, 5.0)) << "the deferred change is not logged";
   std_srvs::Trigger reset;
   ASSERT_TRUE(ros::service::call("/tracker/reset", reset));
   EXPECT_TRUE(reset.response.success);

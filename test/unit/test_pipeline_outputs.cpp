@@ -1,11 +1,14 @@
 // ROS-free helpers of the live nodelets: OdometryOutput (base frame composition, covariance in the base frame,
-// twist from consecutive poses) and run_monitor.h (missed frames from stamp gaps, rates, throttling, health).
+// twist from consecutive poses), run_monitor.h (missed frames from stamp gaps, rates, throttling, health) and
+// InputWatchdog (a stopped publisher).
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <random>
 
 #include "iraf_vo/pipeline/anchored_trajectory.h"
+#include "iraf_vo/pipeline/input_watchdog.h"
 #include "iraf_vo/pipeline/odometry_output.h"
 #include "iraf_vo/pipeline/run_monitor.h"
 
@@ -136,6 +139,114 @@ TEST(StampGapCounter, OverloadedBurstKeepsTheTruePeriod) {
   for (int i = 0; i < 200; ++i)
     if (i < 3 || i % 10 == 0) g.update(i * 5 * ms), ++received;
   EXPECT_EQ(g.missed() + received, 200 - 9);  // frames after the last received one are unknown
+}
+
+TEST(StampGapCounter, JitteredHealthyStreamHasNoMissedFrames) {
+  // 20 Hz with +-8 ms of stamp jitter (uniform): steps of 34..66 ms are not gaps. The smallest recent step as the
+  // period (35 ms) made 45 of 200 frames "missed".
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> jitter(-8000, 8000);  // us
+  const auto stamp = [&](int i) { return static_cast<int64_t>(i) * 50000000LL + jitter(rng) * 1000LL; };
+  StampGapCounter healthy;
+  for (int i = 0; i < 200; ++i) healthy.update(stamp(i));
+  EXPECT_EQ(healthy.missed(), 0);
+  EXPECT_NEAR(healthy.period(), 0.05, 0.004);
+  // The same jittered stream with real drops: 1 frame at 60, 3 frames at 120-122, counted exactly.
+  StampGapCounter dropping;
+  for (int i = 0; i < 200; ++i)
+    if (i != 60 && (i < 120 || i > 122)) dropping.update(stamp(i));
+  EXPECT_EQ(dropping.missed(), 4);
+}
+
+TEST(StampGapCounter, FramesRejectedByTheGraphAreNotMissed) {
+  StampGapCounter g;
+  const int64_t ms = 1000000;
+  for (int i = 0; i < 10; ++i) g.update(i * 50 * ms);
+  EXPECT_EQ(g.update(600 * ms, 2), 0);  // frames 10 and 11 arrived and were rejected upstream (size guard)
+  EXPECT_EQ(g.update(750 * ms, 1), 1);  // 2 missing, 1 of them rejected
+  EXPECT_EQ(g.missed(), 1);
+}
+
+TEST(StampGapCounter, TimeJumpBackRestartsTheCount) {
+  // A looped bag: after the jump back, gaps are counted again at once (they were ignored until the stamps passed
+  // the first loop's last one).
+  StampGapCounter g;
+  const int64_t ms = 1000000;
+  for (int i = 0; i < 100; ++i) g.update(i * 50 * ms);
+  for (int i = 0; i < 100; ++i)
+    if (i != 30 && i != 31) g.update(i * 50 * ms);
+  EXPECT_EQ(g.missed(), 2);
+  // A late frame (small step back) changes nothing.
+  EXPECT_EQ(g.update(4900 * ms), 0);
+  EXPECT_EQ(g.update(5000 * ms), 0);
+  EXPECT_EQ(g.missed(), 2);
+}
+
+TEST(StampGapCounter, ACameraRateChangeIsNotAnEndlessOverload) {
+  StampGapCounter g(20);
+  const int64_t ms = 1000000;
+  int64_t t = 0;
+  for (int i = 0; i < 30; ++i) g.update(t += 50 * ms);  // 20 Hz
+  for (int i = 0; i < 100; ++i) g.update(t += 100 * ms);  // then 10 Hz
+  EXPECT_EQ(g.missed(), 19);  // one per long step until `window` of them in a row re-estimate the period
+  EXPECT_NEAR(g.period(), 0.1, 1e-9);
+}
+
+TEST(InputWatchdog, AStoppedPublisherIsLateWithinThreePeriodsAndDeadAfterTheTimeout) {
+  InputWatchdog w("image", 3.0);
+  EXPECT_TRUE(w.check(0.0).empty()) << "idle until armed (lazy subscription)";
+  w.arm("/cam0/image_raw", 100.0);
+  std::string why;
+  EXPECT_EQ(w.level(102.0, &why), HealthReport::kOk) << "a camera that has not started yet, before the timeout";
+  double last = 0.0;
+  for (int i = 0; i < 40; ++i) EXPECT_TRUE(w.onFrame(last = 102.0 + 0.05 * i + 0.004 * (i % 3 - 1)).empty());
+  EXPECT_NEAR(w.period(), 0.05, 0.009);
+  // The publisher stops: nothing within 2 periods, a warning naming the topic before 3 periods, once.
+  EXPECT_TRUE(w.check(last + 0.10).empty());
+  const std::vector<SessionMessage> late = w.check(last + 0.145);
+  ASSERT_EQ(late.size(), 1u);
+  EXPECT_EQ(late[0].level, SessionMessage::Level::kWarn);
+  EXPECT_NE(late[0].text.find("no image on /cam0/image_raw"), std::string::npos) << late[0].text;
+  EXPECT_TRUE(w.check(last + 0.5).empty());
+  EXPECT_EQ(w.level(last + 0.5, &why), HealthReport::kWarn);
+  // ... an error after the timeout, once; /diagnostics ERROR naming the topic.
+  const std::vector<SessionMessage> dead = w.check(last + 3.1);
+  ASSERT_EQ(dead.size(), 1u);
+  EXPECT_EQ(dead[0].level, SessionMessage::Level::kError);
+  EXPECT_TRUE(w.check(last + 5.0).empty());
+  EXPECT_EQ(w.level(last + 5.0, &why), HealthReport::kError);
+  EXPECT_NE(why.find("/cam0/image_raw"), std::string::npos) << why;
+  // Frames return: one info line, OK again.
+  const std::vector<SessionMessage> back = w.onFrame(last + 6.0);
+  ASSERT_EQ(back.size(), 1u);
+  EXPECT_EQ(back[0].level, SessionMessage::Level::kInfo);
+  EXPECT_EQ(w.level(last + 6.01, &why), HealthReport::kOk);
+  EXPECT_NEAR(w.period(), 0.05, 0.009) << "the outage is not a period";
+  // Unsubscribed (no listener): no alarm however long.
+  w.disarm();
+  EXPECT_TRUE(w.check(last + 100.0).empty());
+  EXPECT_EQ(w.level(last + 100.0, &why), HealthReport::kOk);
+}
+
+TEST(InputWatchdog, AHealthyJitteredStreamRaisesNothing) {
+  InputWatchdog w("image", 3.0);
+  w.arm("/cam0/image_raw", 0.0);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> jitter(-0.008, 0.008);
+  std::string why;
+  for (int i = 0; i < 400; ++i) {
+    const double t = 0.05 * i + jitter(rng);
+    for (double c = t - 0.04; c < t; c += 0.01) EXPECT_TRUE(w.check(c).empty()) << c;
+    EXPECT_TRUE(w.onFrame(t).empty());
+    EXPECT_EQ(w.level(t + 0.001, &why), HealthReport::kOk) << why;
+  }
+}
+
+TEST(RunMonitor, ShutdownSummary) {
+  SessionCounters c;
+  c.frames = 866, c.tracked = 850, c.lost_events = 1, c.resets = 2, c.time_resets = 1, c.dropped = 3;
+  EXPECT_EQ(sessionSummary(c, 4), "summary: 866 frames, 850 tracked (98.2 %), 1 lost events, 2 resets, 1 time resets, "
+                                  "3 dropped, 4 missed");
 }
 
 TEST(RunMonitor, RatesThrottleAndHealth) {

@@ -207,3 +207,28 @@ TEST_F(SessionFixture, EventsAreReportedWithKeysAndTheAnchoredCovarianceIsRotate
   st = s.process(stampOf(0), &g);
   EXPECT_TRUE(keyed(st, "time_jump", SessionMessage::Level::kWarn));
 }
+
+TEST_F(SessionFixture, EveryNewMapIsANewEpochWithItsCause) {
+  TrackerParams p;
+  p.mapping_thread = false;
+  TrackingSession s(cam, p, SessionOptions());
+  std::vector<std::pair<long, std::string>> epochs;  // (epoch, cause) at each new epoch
+  const auto feedEpochs = [&](int from, int to, int64_t offset = 0) {
+    for (int i = from; i < to; ++i) {
+      const FeatureFrame f = frame(i);
+      const SessionStep st = s.process(stampOf(i) + offset, &f);
+      if (st.new_epoch) epochs.emplace_back(st.counters.epoch, st.epoch_cause);
+      if (!st.new_epoch && !epochs.empty()) EXPECT_EQ(st.counters.epoch, epochs.back().first) << i;
+    }
+  };
+  feedEpochs(0, 30);
+  ASSERT_EQ(epochs.size(), 1u) << "the first map";
+  EXPECT_EQ(epochs[0], std::make_pair(1L, std::string("initial")));
+  s.requestRestart();  // ~reset: a new map anchored at the last pose, its own scale
+  feedEpochs(30, 60);
+  ASSERT_EQ(epochs.size(), 2u);
+  EXPECT_EQ(epochs[1], std::make_pair(2L, std::string("restart")));
+  feedEpochs(0, 30, -10 * kSecond);  // the bag looped
+  ASSERT_EQ(epochs.size(), 3u);
+  EXPECT_EQ(epochs[2], std::make_pair(3L, std::string("time_reset")));
+}

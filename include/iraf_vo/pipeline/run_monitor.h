@@ -2,9 +2,13 @@
 // console, tracking_status and /diagnostics).
 //
 // Frames lost under overload never reach a callback (a subscriber queue overflows), so they are inferred from the
-// stamps: the nominal period is the SMALLEST stamp step of the last `window` steps (dropping frames only makes steps
-// longer), and a step of more than 1.5 periods means round(step / period) - 1 frames are missing. Steps longer than
-// max_gap seconds (a paused bag, a time jump) and steps back are not counted.
+// stamps: the nominal period is the MEDIAN of the last `window` regular stamp steps (robust to stamp jitter: a 20 Hz
+// stream with +-8 ms jitter has steps of 34-66 ms), and a step of more than kGapPeriods (1.6) periods means
+// round(step / period) - 1 frames are missing, less the frames the graph itself rejected in between (the caller
+// says how many: they arrived, they are not "missed"). Long steps do not enter the period estimate, unless `window`
+// of them come in a row (the camera rate changed). Steps longer than max_gap seconds (a paused bag) are not counted;
+// a step back of more than max_gap (a time jump: bag loop) restarts the count from that stamp, smaller steps back
+// (late frames) are ignored.
 #pragma once
 
 #include <cstdint>
@@ -21,8 +25,10 @@ namespace iraf_vo {
 class StampGapCounter {
  public:
   explicit StampGapCounter(int window = 50, double max_gap = 2.0) : window_(window), max_gap_(max_gap) {}
-  /// One received frame; returns how many frames are missing right before it.
-  long update(int64_t stamp_ns);
+  static constexpr double kGapPeriods = 1.6;
+  /// One received frame; returns how many frames are missing right before it. rejected_before: frames rejected by
+  /// the graph itself since the previous received one (they are not missing).
+  long update(int64_t stamp_ns, long rejected_before = 0);
   long missed() const { return missed_; }
   /// Nominal period [s] (0 until two frames were seen).
   double period() const;
@@ -32,7 +38,8 @@ class StampGapCounter {
   double max_gap_;
   int64_t last_ns_ = 0;
   bool have_last_ = false;
-  std::deque<int64_t> steps_;
+  std::deque<int64_t> steps_;       // regular steps (period estimate)
+  std::deque<int64_t> long_steps_;  // consecutive long steps (gaps) since the last regular one
   long missed_ = 0;
 };
 
@@ -69,6 +76,10 @@ SessionMessage missedFramesMessage(long missing, int64_t stamp_ns, const StampGa
 std::string trackerStatusLine(TrackingState state, int inliers, const SessionCounters& c, double fps_in,
                               double odom_rate, long missed);
 
+/// The tracker's shutdown summary, e.g. "summary: 866 frames, 850 tracked (98.2 %), 1 lost events, 0 resets, 0 time
+/// resets, 2 dropped, 0 missed".
+std::string sessionSummary(const SessionCounters& c, long missed);
+
 /// A /diagnostics entry, ROS-free (the nodelets copy it into a diagnostic_updater::DiagnosticStatusWrapper).
 struct HealthReport {
   enum Level { kOk = 0, kWarn = 1, kError = 2 };
@@ -97,12 +108,15 @@ HealthReport trackerHealth(const TrackerHealthInput& in);
 class TrackerMonitor {
  public:
   /// A Features message arrived (before the session): the warning to log when frames are missing before it.
-  std::vector<SessionMessage> onInput(double now, int64_t stamp_ns);
+  /// rejected_before: frames the graph rejected since the previous message (Features.rejected_before).
+  std::vector<SessionMessage> onInput(double now, int64_t stamp_ns, long rejected_before = 0);
   /// The session processed a frame.
   void onStep(const SessionStep& step);
   void onOdometry(double now) { odom_rate_.tick(now); }
   bool allow(const SessionMessage& m, double now) { return throttle_.allow(m, now); }
   long missed() const { return gaps_.missed(); }
+  /// Nominal input period from the stamps [s] (0 until known).
+  double period() const { return gaps_.period(); }
   /// For /diagnostics (each call starts a new "missed since the last report" interval).
   HealthReport health(const std::string& no_calibration, const std::string& camera, const SessionCounters& c,
                       double now);

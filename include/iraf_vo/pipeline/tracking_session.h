@@ -42,6 +42,7 @@ struct SessionCounters {
   long time_resets = 0;                   // restarts after a time jump back
   long rejected = 0;                      // poses rejected by the core's health monitor (reported LOST)
   long initializations = 0;               // completed (re-)initializations
+  long epoch = 0;                         // map / scale epoch: 0 before the first map, +1 at every new map
   int map_points = 0, map_keyframes = 0;  // of the last published map
 };
 
@@ -58,6 +59,8 @@ struct SessionMessage {
 struct SessionStep {
   bool tracked_frame = false;  // false: the frame was dropped (messages say why)
   bool time_jump = false;      // the map and the recorded trajectory restarted: restart published paths too
+  bool new_epoch = false;      // this frame starts a new map / scale epoch (counters.epoch)
+  std::string epoch_cause;     // then why: initial | reinitialized | map_reset | restart | time_reset
   TrackResult result;
   bool has_pose = false;                                             // result.state == kTracking
   Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();  // anchored
@@ -83,12 +86,16 @@ class TrackingSession {
   void setParams(const TrackerParams& params);
   /// Restart (new map, trajectory continues) at the next frame.
   void requestRestart();
+  /// True when setParams() would wait for the next restart (the tracker is tracking).
+  bool paramsDeferred() const;
 
   /// The parameters of the current tracker (setParams() values once applied).
   const TrackerParams& params() const { return params_; }
   const Trajectory& trajectory() const { return trajectory_; }
   /// Writes the recorded trajectory to options.trajectory_file. false + *error.
   bool saveTrajectory(std::string* error) const;
+  /// Writes it to `path` ("" = options.trajectory_file). false + *error naming the file.
+  bool saveTrajectory(const std::string& path, std::string* error) const;
   SessionCounters counters() const;
 
  private:
@@ -111,6 +118,7 @@ class TrackingSession {
   TrackingState last_state_ = TrackingState::kNotInitialized;
   SessionCounters counters_;
   long restarts_ = 0, internal_resets_base_ = 0, internal_resets_last_ = 0;
+  std::string epoch_cause_ = "initial";  // why the next map starts (set when the current one ends)
   Trajectory trajectory_;
 };
 

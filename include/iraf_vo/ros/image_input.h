@@ -3,7 +3,8 @@
 // Debian 12 ships only image_transport's `raw` plugin, yet most recorded bags carry `.../image_raw/compressed`.
 // ImageInput subscribes
 //  - to `<topic>/compressed` (sensor_msgs/CompressedImage, decoded with OpenCV: jpeg / png) when the transport is
-//    "compressed", or to `topic` itself when it ends in "/compressed" (no image_transport plugin needed);
+//    "compressed", or to `topic` itself when its RESOLVED name (after remapping, e.g. a launch file's
+//    `image:=/cam0/image_raw/compressed`) ends in "/compressed", whatever the transport (logged once);
 //  - otherwise through image_transport with that transport ("raw", or a plugin such as "theora"). A plugin that
 //    fails to load gives one ROS_ERROR naming it and the topic, and the input falls back to "raw": the nodelet
 //    manager never aborts.
@@ -61,13 +62,15 @@ class ImageInput {
   std::string lastError() const;
 
   /// True when (topic, transport) selects the built-in CompressedImage decoding: transport "compressed" or a
-  /// topic ending in "/compressed".
+  /// topic ending in "/compressed". subscribe() asks it about the resolved topic (after remapping).
   static bool usesCompressed(const std::string& topic, const std::string& transport);
 
  private:
   void rawCallback(const sensor_msgs::ImageConstPtr& msg);
   void compressedCallback(const sensor_msgs::CompressedImageConstPtr& msg);
   void drop(const std::string& problem);
+  /// topic_ resolved in nh_ (remappings applied); topic_ itself when it is not a valid name.
+  std::string resolvedTopic() const;
 
   ros::NodeHandle nh_;
   std::string topic_, transport_;
@@ -80,6 +83,7 @@ class ImageInput {
   ros::Subscriber compressed_sub_;
   std::string active_, subscribed_topic_, last_error_;
   bool plugin_failed_ = false;
+  bool compressed_logged_ = false;  // the "/compressed topic" note is logged once
   std::atomic<size_t> received_{0}, dropped_{0};
 };
 

@@ -1,0 +1,138 @@
+// iraf_vo_pose_nees --dataset DIR [--camera sensor.yaml] [--config yaml] [--frames N] [--gt FILE]
+// How well the tracker's pose covariance (TrackResult::covariance, published in odometry.pose.covariance) predicts
+// its frame-to-frame error: for consecutive TRACKING frames of one map, the error of the relative motion (camera
+// centre step and world-frame rotation step, after the Sim(3) alignment of the whole run to the ground truth)
+// against C_k + C_k-1:  NEES = e^T (C_k + C_k-1)^-1 e. A consistent covariance gives a mean NEES near the degrees of
+// freedom (6; 3 for position, 3 for rotation); larger = optimistic. Prints the mean / median and the factor that
+// would make the mean equal to the degrees of freedom. Ground truth: DIR/groundtruth.txt (iraf_vo_simulate).
+#include <iraf_vo/camera/camera_loader.h>
+#include <iraf_vo/eval/trajectory_eval.h>
+#include <iraf_vo/io/image_folder.h>
+#include <iraf_vo/pipeline/frame_source.h>
+#include <iraf_vo/pipeline/offline_pipeline.h>
+#include <iraf_vo/pipeline/pipeline_params.h>
+#include <iraf_vo/tracking/tracker.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+namespace {
+
+struct Sample {
+  double stamp;
+  Eigen::Isometry3d T;
+  Eigen::Matrix<double, 6, 6> C;
+  long map;
+  double median_chi2;
+};
+
+Eigen::Vector3d logRotation(const Eigen::Matrix3d& R) {
+  const Eigen::AngleAxisd aa(R);
+  return aa.angle() * aa.axis();
+}
+
+double mean(const std::vector<double>& v) {
+  double s = 0;
+  for (double x : v) s += x;
+  return v.empty() ? 0.0 : s / v.size();
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string dataset, camera_path, config, gt_path;
+  long frames = -1;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    const auto value = [&]() -> std::string { return i + 1 < argc ? argv[++i] : ""; };
+    if (a == "--dataset") dataset = value();
+    else if (a == "--camera") camera_path = value();
+    else if (a == "--config") config = value();
+    else if (a == "--gt") gt_path = value();
+    else if (a == "--frames") frames = std::atol(value().c_str());
+    else return std::fprintf(stderr, "usage: iraf_vo_pose_nees --dataset DIR [--camera Y] [--config Y] [--frames N] [--gt F]\n"), 2;
+  }
+  iraf_vo::AslImageReader asl;
+  std::string err;
+  if (dataset.empty() || !asl.open(dataset, &err)) return std::fprintf(stderr, "iraf_vo_pose_nees: --dataset: %s\n", err.c_str()), 1;
+  if (camera_path.empty()) camera_path = asl.sensorYamlPath();
+  if (gt_path.empty()) gt_path = dataset + "/groundtruth.txt";
+  const iraf_vo::CameraModelPtr cam = iraf_vo::loadCamera(camera_path, &err);
+  if (!cam) return std::fprintf(stderr, "iraf_vo_pose_nees: --camera %s: %s\n", camera_path.c_str(), err.c_str()), 1;
+  iraf_vo::PipelineParams params;
+  if (!config.empty() && !iraf_vo::loadPipelineConfig(config, &params, &err))
+    return std::fprintf(stderr, "iraf_vo_pose_nees: %s\n", err.c_str()), 1;
+  iraf_vo::applyResolutionRule(*cam, &params);
+  params.tracker.mapping_thread = false;  // deterministic
+  iraf_vo::Trajectory gt;
+  if (!iraf_vo::readTrajectory(gt_path, &gt, &err, cam->T_BS))
+    return std::fprintf(stderr, "iraf_vo_pose_nees: --gt %s: %s\n", gt_path.c_str(), err.c_str()), 1;
+
+  iraf_vo::AslFrameSource source(&asl);
+  iraf_vo::PipelineOptions opts;
+  opts.last = frames > 0 ? std::min<long>(frames, source.size()) : static_cast<long>(source.size());
+  opts.width = cam->width();
+  opts.height = cam->height();
+  iraf_vo::Tracker tracker(cam, params.tracker);
+  std::vector<Sample> samples;
+  iraf_vo::Trajectory est;
+  long map = 0;
+  {
+    iraf_vo::OfflinePipeline pipeline(&source, params.enhance, params.features, opts);
+    for (iraf_vo::FrontEndItem it; pipeline.next(&it);) {
+      if (it.fatal) return std::fprintf(stderr, "iraf_vo_pose_nees: %s\n", it.message.c_str()), 1;
+      if (it.error) continue;
+      const iraf_vo::TrackResult r = tracker.track(it.frame);
+      if (r.initialized_now) ++map;
+      if (r.state != iraf_vo::TrackingState::kTracking) continue;
+      samples.push_back({it.frame.stamp, r.T_w_c, r.covariance, map, r.median_chi2});
+      est.push_back(it.frame.stamp, r.T_w_c);
+    }
+  }
+  iraf_vo::EvalParams ep;
+  iraf_vo::EvalResult res;
+  if (!iraf_vo::evaluateTrajectory(gt, est, ep, &res, &err)) return std::fprintf(stderr, "iraf_vo_pose_nees: %s\n", err.c_str()), 1;
+  const iraf_vo::Sim3 to_est = res.alignment.inverse();  // GT -> estimate frame (its scale)
+  const auto pairs = iraf_vo::associate(gt.stamps, est.stamps, ep.max_dt);
+  std::vector<long> gt_of(est.size(), -1);
+  for (const auto& p : pairs) gt_of[p.second] = static_cast<long>(p.first);
+  std::vector<double> nees6, nees_t, nees_r, nees_vf;
+  for (size_t k = 1; k < samples.size(); ++k) {
+    if (samples[k].map != samples[k - 1].map || gt_of[k] < 0 || gt_of[k - 1] < 0) continue;
+    const Eigen::Isometry3d G0 = to_est.apply(gt.poses[gt_of[k - 1]]), G1 = to_est.apply(gt.poses[gt_of[k]]);
+    const Eigen::Isometry3d& T0 = samples[k - 1].T;
+    const Eigen::Isometry3d& T1 = samples[k].T;
+    Eigen::Matrix<double, 6, 1> e;
+    e.head<3>() = (T1.translation() - T0.translation()) - (G1.translation() - G0.translation());
+    e.tail<3>() = logRotation((T1.rotation() * T0.rotation().transpose()) *
+                              (G1.rotation() * G0.rotation().transpose()).transpose());
+    const Eigen::Matrix<double, 6, 6> C = samples[k].C + samples[k - 1].C;
+    nees6.push_back(e.dot(C.ldlt().solve(e)));
+    // with the a-posteriori variance factor of each pose (median chi2 of its inliers / 1.386, the median of chi2(2))
+    const double f0 = std::max(1.0, samples[k - 1].median_chi2 / 1.386), f1 = std::max(1.0, samples[k].median_chi2 / 1.386);
+    const Eigen::Matrix<double, 6, 6> Cv = samples[k].C * f1 + samples[k - 1].C * f0;
+    nees_vf.push_back(e.dot(Cv.ldlt().solve(e)));
+    nees_t.push_back(e.head<3>().dot(C.topLeftCorner<3, 3>().ldlt().solve(e.head<3>())));
+    nees_r.push_back(e.tail<3>().dot(C.bottomRightCorner<3, 3>().ldlt().solve(e.tail<3>())));
+  }
+  std::printf("%s: %zu tracked, %zu frame pairs, ATE %.4f (scale %.3f)\n", dataset.c_str(), samples.size(),
+              nees6.size(), res.ate.rmse, res.scale);
+  std::printf("NEES 6-dof mean %.2f median %.2f (dof 6) -> factor %.2f\n", mean(nees6), median(nees6), mean(nees6) / 6.0);
+  std::printf("NEES 6-dof with the variance factor: mean %.2f median %.2f\n", mean(nees_vf), median(nees_vf));
+  std::vector<double> chi2;
+  for (const Sample& x : samples) chi2.push_back(x.median_chi2);
+  std::printf("median chi2 of the inliers: median %.2f mean %.2f\n", median(chi2), mean(chi2));
+  std::printf("NEES position mean %.2f median %.2f (dof 3) -> factor %.2f\n", mean(nees_t), median(nees_t), mean(nees_t) / 3.0);
+  std::printf("NEES rotation mean %.2f median %.2f (dof 3) -> factor %.2f\n", mean(nees_r), median(nees_r), mean(nees_r) / 3.0);
+  return 0;
+}

@@ -1,0 +1,178 @@
+// rostest: the launch files users are told to run, each started with `roslaunch` on a small simulated bag
+// (iraf_vo_simulate, 120 frames of the room at 20 Hz through the launch file's own camera yaml):
+//   1. euroc.launch bag:=... image:=/cam0/image_raw/compressed base_frame:=base_link base_from_camera_file:=true
+//      trajectory_file:=... record:=...: odometry of base_link, base_link -> cam0 on /tf_static, tracking_events
+//      (NEW_MAP epoch 1), the trajectory file and the recorded bag after shutdown.
+//   2. tumvi.launch bag:=... (fisheye): odometry and epoch 1.
+//   3. live.launch camera:=/camera transport:=raw camera_file:=... fed by `rosbag play` remapped to /camera.
+#include <gtest/gtest.h>
+
+#include <nav_msgs/Odometry.h>
+#include <ros/ros.h>
+#include <tf2_ros/transform_listener.h>
+
+#include <csignal>
+#include <cstdlib>
+#include <fstream>
+#include <mutex>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "common/wait_for.h"
+#include "iraf_vo/TrackingEvent.h"
+#include "iraf_vo/io/trajectory.h"
+
+using iraf_vo::test::waitFor;
+
+namespace {
+
+std::string g_dir;
+const std::string kConfig = std::string(IRAF_VO_SOURCE_DIR) + "/config/";
+const std::string kBin = IRAF_VO_BIN_DIR;
+
+bool sh(const std::string& cmd) { return std::system(cmd.c_str()) == 0; }
+
+std::string readFile(const std::string& path) {
+  std::ifstream f(path);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+/// A process this test starts (its own process group), stopped with SIGINT like Ctrl-C.
+class Child {
+ public:
+  Child(const std::string& cmd, const std::string& log) {
+    pid_ = fork();
+    if (pid_ == 0) {
+      setpgid(0, 0);
+      execl("/bin/sh", "sh", "-c", ("exec " + cmd + " > " + log + " 2>&1").c_str(), static_cast<char*>(nullptr));
+      _exit(127);
+    }
+  }
+  ~Child() { stop(); }
+  /// SIGINT, then up to `seconds` for a clean exit, then SIGKILL of the group.
+  void stop(double seconds = 30.0) {
+    if (pid_ <= 0) return;
+    kill(pid_, SIGINT);
+    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
+    int status = 0;
+    while (waitpid(pid_, &status, WNOHANG) == 0) {
+      if (ros::WallTime::now() > end) {
+        kill(-pid_, SIGKILL);
+        waitpid(pid_, &status, 0);
+        break;
+      }
+      ros::WallDuration(0.1).sleep();
+    }
+    pid_ = -1;
+  }
+
+ private:
+  pid_t pid_ = -1;
+};
+
+struct Watch {
+  ros::NodeHandle nh;
+  std::mutex m;
+  std::vector<nav_msgs::OdometryConstPtr> odom;
+  std::vector<iraf_vo::TrackingEventConstPtr> events;
+  ros::Subscriber odom_sub, events_sub;
+  explicit Watch(const std::string& ns = "") {
+    odom_sub = nh.subscribe<nav_msgs::Odometry>(ns + "/odometry", 100, [this](const nav_msgs::OdometryConstPtr& o) {
+      std::lock_guard<std::mutex> l(m);
+      odom.push_back(o);
+    });
+    events_sub = nh.subscribe<iraf_vo::TrackingEvent>(ns + "/tracking_events", 10,
+                                                      [this](const iraf_vo::TrackingEventConstPtr& e) {
+                                                        std::lock_guard<std::mutex> l(m);
+                                                        events.push_back(e);
+                                                      });
+  }
+  size_t odomCount() {
+    std::lock_guard<std::mutex> l(m);
+    return odom.size();
+  }
+  bool hasNewMap(uint32_t epoch) {
+    std::lock_guard<std::mutex> l(m);
+    for (const auto& e : events)
+      if (e->kind == iraf_vo::TrackingEvent::NEW_MAP && e->epoch == epoch) return true;
+    return false;
+  }
+};
+
+/// A simulated bag of the room through `camera` (yaml); extra: iraf_vo_asl_to_bag options ("" = raw images).
+std::string renderBag(const std::string& name, const std::string& camera, const std::string& extra) {
+  const std::string dir = g_dir + "/" + name;
+  const std::string bag = g_dir + "/" + name + ".bag";
+  const bool ok = sh(kBin + "/iraf_vo_simulate --preset clean --frames 120 --camera " + camera + " --out " + dir +
+                     " > " + dir + ".sim.log 2>&1") &&
+                  sh(kBin + "/iraf_vo_asl_to_bag " + dir + " " + bag + " " + extra + " > " + dir + ".bag.log 2>&1");
+  return ok ? bag : "";
+}
+
+}  // namespace
+
+TEST(LaunchFiles, EurocWithACompressedBag) {
+  const std::string bag = renderBag("euroc", kConfig + "euroc_cam0.yaml", "--compressed");
+  ASSERT_FALSE(bag.empty()) << "cannot render the bag (see " << g_dir << ")";
+  Watch w;
+  tf2_ros::Buffer tf;
+  tf2_ros::TransformListener listener(tf);
+  const std::string log = g_dir + "/euroc.log", traj = g_dir + "/euroc_traj.txt";
+  Child launch("roslaunch iraf_vo euroc.launch bag:=" + bag + " image:=/cam0/image_raw/compressed delay:=2 "
+               "base_frame:=base_link base_from_camera_file:=true trajectory_file:=" + traj + " record:=" + g_dir +
+               "/rec", log);
+  EXPECT_TRUE(waitFor([&] { return w.odomCount() >= 20; }, 90.0)) << "no odometry; " << readFile(log);
+  EXPECT_TRUE(waitFor([&] { return w.hasNewMap(1); }, 5.0)) << "no NEW_MAP event for epoch 1";
+  {
+    std::lock_guard<std::mutex> l(w.m);
+    if (!w.odom.empty()) EXPECT_EQ(w.odom.back()->child_frame_id, "base_link");
+  }
+  EXPECT_TRUE(waitFor([&] { return tf.canTransform("base_link", "cam0", ros::Time(0)); }, 5.0))
+      << "no static TF base_link -> cam0 from base_from_camera_file";
+  ros::WallDuration(2.0).sleep();
+  launch.stop();
+  iraf_vo::Trajectory t;
+  std::string err;
+  EXPECT_TRUE(iraf_vo::readTumTrajectory(traj, &t, &err)) << err;
+  EXPECT_GT(t.size(), 20u);
+  EXPECT_TRUE(sh("ls " + g_dir + "/rec_*.bag > /dev/null 2>&1")) << "record:= wrote no bag";
+}
+
+TEST(LaunchFiles, TumviWithAFisheyeBag) {
+  const std::string bag = renderBag("tumvi", kConfig + "tumvi_cam0.yaml", "");
+  ASSERT_FALSE(bag.empty()) << "cannot render the bag (see " << g_dir << ")";
+  Watch w;
+  const std::string log = g_dir + "/tumvi.log";
+  Child launch("roslaunch iraf_vo tumvi.launch bag:=" + bag + " delay:=2", log);
+  EXPECT_TRUE(waitFor([&] { return w.odomCount() >= 20; }, 90.0)) << "no odometry; " << readFile(log);
+  EXPECT_TRUE(w.hasNewMap(1));
+}
+
+TEST(LaunchFiles, LiveCameraFedByABag) {
+  const std::string raw_bag = renderBag("live", kConfig + "euroc_cam0.yaml", "--topic /camera/image_raw");
+  ASSERT_FALSE(raw_bag.empty());
+  Watch w;
+  const std::string log = g_dir + "/live.log";
+  Child launch("roslaunch iraf_vo live.launch camera:=/camera transport:=raw camera_file:=" + kConfig +
+               "euroc_cam0.yaml", log);
+  ros::WallDuration(3.0).sleep();  // the nodelets subscribe
+  Child player("rosbag play -q " + raw_bag, g_dir + "/live_play.log");
+  EXPECT_TRUE(waitFor([&] { return w.odomCount() >= 20; }, 90.0)) << "no odometry; " << readFile(log);
+}
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "launch_files_test");
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  char tmpl[] = "/tmp/iraf_vo_launch_files_XXXXXX";
+  if (!mkdtemp(tmpl)) return 1;
+  g_dir = tmpl;
+  const int rc = RUN_ALL_TESTS();
+  std::system(("rm -rf " + g_dir).c_str());
+  return rc;
+}
