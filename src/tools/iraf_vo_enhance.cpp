@@ -16,22 +16,12 @@
 #include <map>
 
 #include "iraf_vo/pipeline/command_line.h"
+#include "iraf_vo/common/file_util.h"
 #include "iraf_vo/enhance/enhancer.h"
 #include "iraf_vo/io/image_folder.h"
 
 namespace fs = std::filesystem;
 using namespace iraf_vo;
-
-namespace {
-
-bool isImage(const fs::path& p) {
-  std::string e = p.extension().string();
-  std::transform(e.begin(), e.end(), e.begin(), ::tolower);
-  return e == ".png" || e == ".jpg" || e == ".jpeg" || e == ".bmp" || e == ".pgm" || e == ".ppm" || e == ".tif" ||
-         e == ".tiff";
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   std::string input_arg, output, method, csv_path;
@@ -78,7 +68,7 @@ int main(int argc, char** argv) {
     for (const ImageEntry& e : asl.entries()) files.push_back(e.path);
   } else if (fs::is_directory(input, ec)) {
     for (const auto& e : fs::directory_iterator(input, ec))
-      if (e.is_regular_file() && isImage(e.path())) files.push_back(e.path());
+      if (e.is_regular_file() && hasImageExtension(e.path())) files.push_back(e.path());
     std::sort(files.begin(), files.end());
   } else if (fs::is_regular_file(input, ec)) {
     files.push_back(input);

@@ -23,22 +23,13 @@
 #include <string>
 #include <vector>
 
+#include "iraf_vo/common/file_util.h"
 #include "iraf_vo/enhance/enhancer.h"
 #include "iraf_vo/features/feature_extractor.h"
 #include "iraf_vo/pipeline/command_line.h"
 
 namespace fs = std::filesystem;
 using namespace iraf_vo;
-
-namespace {
-
-bool isImage(const fs::path& p) {
-  std::string e = p.extension().string();
-  std::transform(e.begin(), e.end(), e.begin(), ::tolower);
-  return e == ".png" || e == ".jpg" || e == ".jpeg" || e == ".bmp";
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   std::string input, output = "keypoint_curve.csv";
@@ -69,7 +60,7 @@ int main(int argc, char** argv) {
   }
   std::vector<fs::path> files;
   for (const auto& e : fs::recursive_directory_iterator(input, ec))
-    if (e.is_regular_file() && isImage(e.path())) files.push_back(e.path());
+    if (e.is_regular_file() && hasImageExtension(e.path())) files.push_back(e.path());
   std::sort(files.begin(), files.end());
   if (files.empty()) {
     std::cerr << "iraf_vo_keypoint_curve: no .jpg/.png/.bmp images under '" << input << "'\n";

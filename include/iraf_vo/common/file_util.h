@@ -1,4 +1,4 @@
-// Path checks and line trimming shared by the file readers (io/). ROS-free.
+// Path checks, image-file names and line trimming shared by the file readers (io/) and the tools. ROS-free.
 #pragma once
 
 #include <cctype>
@@ -18,6 +18,15 @@ inline bool isDir(const std::string& path) {
 inline bool isFile(const std::string& path) {
   std::error_code ec;
   return std::filesystem::is_regular_file(path, ec);
+}
+
+/// True when the file name ends in an image extension the readers take (png, jpg, jpeg, bmp, pgm, ppm, tif, tiff;
+/// any case).
+inline bool hasImageExtension(const std::filesystem::path& path) {
+  std::string e = path.extension().string();
+  for (char& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return e == ".png" || e == ".jpg" || e == ".jpeg" || e == ".bmp" || e == ".pgm" || e == ".ppm" || e == ".tif" ||
+         e == ".tiff";
 }
 
 /// `s` without its leading and trailing whitespace.
