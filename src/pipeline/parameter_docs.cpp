@@ -55,7 +55,7 @@ std::string parameterDocsMarkdown() {
       "\n"
       "<!-- Generated from the parameter tables (src/<stage>/<stage>_params.cpp); do not edit. Regenerate with\n"
       "     " + std::string(kParameterDocsCommand) + "\n"
-      "     test_params_doc fails while this file differs from the tables. -->\n"
+      "     test_params fails while this file differs from the tables. -->\n"
       "\n"
       "Every parameter of the three stages, one row each. One name everywhere: the struct field, the YAML key, the\n"
       "`--set` key, the ROS private parameter and the dynamic_reconfigure parameter. The default is the struct's\n"

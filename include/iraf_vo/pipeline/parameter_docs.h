@@ -1,4 +1,4 @@
-// docs/parameters.md, generated from the stages' parameter tables (`iraf_vo_params --markdown`; test_params_doc
+// docs/parameters.md, generated from the stages' parameter tables (`iraf_vo_params --markdown`; test_params
 // fails when the committed file differs). ROS-free.
 #pragma once
 
