@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "common/run_command.h"
 #include "common/tmp_dir.h"
 #include "iraf_vo/eval/trajectory_eval.h"
 #include "iraf_vo/features/image_signal.h"
@@ -34,15 +35,7 @@ bool exists(const std::string& p) {
   return stat(p.c_str(), &st) == 0;
 }
 
-int runCommand(const std::string& cmd, std::string* output) {
-  FILE* p = popen((cmd + " 2>&1").c_str(), "r");
-  if (!p) return -1;
-  char buf[512];
-  output->clear();
-  while (fgets(buf, sizeof(buf), p)) *output += buf;
-  const int st = pclose(p);
-  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-}
+using iraf_vo::test::runCommand;
 
 // A random texture with the falling spectrum of natural images: blobs of ~32, ~16 and ~8 px, grey levels about
 // [30, 220].

@@ -15,6 +15,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "common/run_command.h"
 #include "iraf_vo/camera/camera_loader.h"
 #include "iraf_vo/eval/trajectory_eval.h"
 #include "iraf_vo/io/image_folder.h"
@@ -25,14 +26,7 @@ namespace {
 const std::string kBin = std::string(IRAF_VO_BIN_DIR) + "/iraf_vo_run";
 
 int run(const std::string& args, std::string* output) {
-  const std::string cmd = kBin + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return -1;
-  char buf[512];
-  output->clear();
-  while (fgets(buf, sizeof(buf), p)) *output += buf;
-  const int st = pclose(p);
-  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return iraf_vo::test::runCommand(kBin + " " + args, output);
 }
 
 bool exists(const std::string& p) {
