@@ -75,6 +75,7 @@ struct Tracker::Impl {
   TrackResult track(const FeatureFrame& in);
   bool initializeMap(Frame& cur, TrackResult* res);
   bool trackWithMotionModel(Frame& cur, TrackResult* res);
+  Eigen::Isometry3d lastPose() const;
   bool trackFrom(Frame& cur, const Eigen::Isometry3d& T_last, const Eigen::Isometry3d& T_predicted, TrackResult* res);
   bool relocalizeAfterDarkness(Frame& cur, TrackResult* res);
   Eigen::Matrix<double, 6, 6> initialPoseInformation(const Frame& cur) const;
@@ -206,10 +207,15 @@ bool Tracker::Impl::initializeMap(Frame& cur, TrackResult* res) {
 
 bool Tracker::Impl::trackWithMotionModel(Frame& cur, TrackResult* res) {
   // Prediction; the last frame's pose follows its reference keyframe if BA moved it.
-  Eigen::Isometry3d T_last = last.T_c_w, T_kf;
-  if (map.keyframePose(last_ref_kf, &T_kf)) T_last = T_last_rel_kf * T_kf;
+  const Eigen::Isometry3d T_last = lastPose();
   const Eigen::Isometry3d T_predicted = have_velocity ? velocity * T_last : T_last;
   return trackFrom(cur, T_last, T_predicted, res);
+}
+
+// The last frame's pose, following its reference keyframe if a BA has moved it since.
+Eigen::Isometry3d Tracker::Impl::lastPose() const {
+  Eigen::Isometry3d T_kf;
+  return map.keyframePose(last_ref_kf, &T_kf) ? T_last_rel_kf * T_kf : last.T_c_w;
 }
 
 // After dark frames, when tracking from the last pose failed: the local map tracked from the poses the keyframe-wise
@@ -219,8 +225,7 @@ bool Tracker::Impl::relocalizeAfterDarkness(Frame& cur, TrackResult* res) {
   const auto t0 = SteadyClock::now();
   const std::vector<RelocalizationCandidate> candidates = relocalizer.candidates(cur, map, 3);
   res->timing.ms_match += msSince(t0);
-  Eigen::Isometry3d T_last = last.T_c_w, T_kf;
-  if (map.keyframePose(last_ref_kf, &T_kf)) T_last = T_last_rel_kf * T_kf;
+  const Eigen::Isometry3d T_last = lastPose();
   for (const RelocalizationCandidate& c : candidates) {
     std::fill(cur.point_id.begin(), cur.point_id.end(), -1);  // of a rejected attempt
     res->rejected.clear();
