@@ -11,7 +11,8 @@ namespace iraf_vo {
 
 struct SourceImage {
   double stamp = 0.0;  // seconds
-  cv::Mat gray;        // CV_8UC1
+  cv::Mat gray;        // CV_8UC1 (the left image of a stereo pair)
+  cv::Mat right;       // CV_8UC1, the right image of a stereo pair; empty when the source has none for this frame
   std::string error;   // not empty: the image is unreadable (the frame is skipped)
 };
 
