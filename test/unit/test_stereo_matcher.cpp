@@ -64,11 +64,11 @@ void checkSyntheticPair(CameraModelPtr cam) {
   const size_t both = std::min(fl.keypoints.size(), fr.keypoints.size());
   EXPECT_GT(matches.size(), 0.7 * both) << cam->modelName() << ": " << matches.size() << " of " << both;
   EXPECT_GE(correct, static_cast<int>(0.98 * matches.size())) << cam->modelName();
-  // 0.3 px noise, a 0.12 m baseline, points at 1-4.5 m: ~1 % of the depth typically, ~10-25 % at most (4.5 m at
-  // the fisheye's periphery: ~4 px of disparity).
+  // 0.3 px noise per image, a 0.12 m baseline, points at 1-4.5 m: the depth error is ~0.42 px / disparity, ~2 %
+  // (f 450) or ~5 % (fisheye f 200) at the median depth, ~10-25 % at most (4.5 m at the fisheye's periphery).
   ASSERT_FALSE(rel_err.empty());
   std::sort(rel_err.begin(), rel_err.end());
-  EXPECT_LT(rel_err[rel_err.size() / 2], 0.02) << cam->modelName();
+  EXPECT_LT(rel_err[rel_err.size() / 2], 0.06) << cam->modelName();
   EXPECT_LT(rel_err.back(), 0.3) << cam->modelName();
   for (const StereoMatch& m : matches) EXPECT_LE(m.depth(), matcher.maxDepth());
 }
