@@ -96,4 +96,17 @@ std::vector<StereoMatch> StereoMatcher::match(const Frame& left, const Frame& ri
   return out;
 }
 
+std::vector<StereoMapPoint> stereoMapPoints(const std::vector<StereoMatch>& matches, const Frame& left, bool only_new) {
+  std::vector<StereoMapPoint> out;
+  const Eigen::Isometry3d T_w_c = left.T_c_w.inverse();
+  for (const StereoMatch& m : matches) {
+    if (only_new && left.point_id[m.left] >= 0) continue;
+    StereoMapPoint sp;
+    sp.kp = m.left;
+    sp.p_w = T_w_c * m.p_l;
+    out.push_back(sp);
+  }
+  return out;
+}
+
 }  // namespace iraf_vo

@@ -17,6 +17,7 @@
 
 #include "iraf_vo/camera/stereo_rig.h"
 #include "iraf_vo/tracking/frame.h"
+#include "iraf_vo/tracking/map.h"
 #include "iraf_vo/tracking/tracker_params.h"
 
 #include <Eigen/Core>
@@ -48,5 +49,9 @@ class StereoMatcher {
   Eigen::Vector3d c_r_in_l_;  // right camera centre in the left frame
   double max_depth_;
 };
+
+/// The matches as map points in the world (left.T_c_w), for the left keypoints without a map point
+/// (left.point_id < 0) when only_new, else for all.
+std::vector<StereoMapPoint> stereoMapPoints(const std::vector<StereoMatch>& matches, const Frame& left, bool only_new);
 
 }  // namespace iraf_vo
