@@ -96,6 +96,21 @@ std::vector<StereoMatch> StereoMatcher::match(const Frame& left, const Frame& ri
   return out;
 }
 
+bool StereoMatcher::matchRight(Frame* left, const FeatureFrame& right, std::vector<StereoMatch>* matches) const {
+  matches->clear();
+  left->right_obs.clear();
+  Frame rf;
+  std::string err;
+  if (right.keypoints.empty() || !Frame::fromFeatures(right, *rig_.right, left->index, &rf, &err)) return false;
+  *matches = match(*left, rf);
+  left->right_obs.assign(left->size(), Eigen::Vector3f::Zero());
+  for (const StereoMatch& m : *matches) {
+    const cv::KeyPoint& kp = rf.keypoints[m.right];
+    left->right_obs[m.left] = Eigen::Vector3f(kp.pt.x, kp.pt.y, static_cast<float>(rf.sigma(kp.octave)));
+  }
+  return true;
+}
+
 std::vector<StereoMapPoint> stereoMapPoints(const std::vector<StereoMatch>& matches, const Frame& left, bool only_new) {
   std::vector<StereoMapPoint> out;
   const Eigen::Isometry3d T_w_c = left.T_c_w.inverse();

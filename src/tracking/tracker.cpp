@@ -192,11 +192,10 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in, const FeatureFrame* rig
 
 // Stereo: the right image's matches (empty without one); a missing right image is counted once per frame.
 void Tracker::Impl::matchStereo(Frame& cur, const FeatureFrame* right, TrackResult* res) {
+  const auto t0 = SteadyClock::now();
   stereo_matches.clear();
-  Frame rf;
-  std::string err;
-  const bool have_right = right && !right->keypoints.empty() &&
-                          Frame::fromFeatures(*right, *rig.right, cur.index, &rf, &err);
+  const bool have_right = right && stereo->matchRight(&cur, *right, &stereo_matches);
+  res->timing.ms_match += msSince(t0);
   res->right_missing = !have_right;
   const bool new_run = !have_right && !last_right_missing;
   last_right_missing = !have_right;
@@ -207,16 +206,8 @@ void Tracker::Impl::matchStereo(Frame& cur, const FeatureFrame* right, TrackResu
     });
     return;
   }
-  const auto t0 = SteadyClock::now();
-  stereo_matches = stereo->match(cur, rf);
-  res->timing.ms_match += msSince(t0);
   res->stereo = true;
   res->stereo_matches = static_cast<int>(stereo_matches.size());
-  cur.right_obs.assign(cur.size(), Eigen::Vector3f::Zero());
-  for (const StereoMatch& m : stereo_matches) {
-    const cv::KeyPoint& kp = rf.keypoints[m.right];
-    cur.right_obs[m.left] = Eigen::Vector3f(kp.pt.x, kp.pt.y, static_cast<float>(rf.sigma(kp.octave)));
-  }
   updateStats([n = stereo_matches.size()](TrackerStats& s) {
     s.stereo_matches_last = static_cast<long>(n);
     s.stereo_matches_total += static_cast<long>(n);

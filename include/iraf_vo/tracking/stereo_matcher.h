@@ -41,6 +41,9 @@ class StereoMatcher {
 
   /// The checked matches of one stereo frame (left and right: the same exposure, undistorted by Frame).
   std::vector<StereoMatch> match(const Frame& left, const Frame& right) const;
+  /// The same from the right image's features; fills left->right_obs (the match's right pixel and sigma per left
+  /// keypoint). false (no matches, right_obs empty) when the right features are unusable.
+  bool matchRight(Frame* left, const FeatureFrame& right, std::vector<StereoMatch>* matches) const;
 
   double maxDepth() const { return max_depth_; }
 
