@@ -7,6 +7,8 @@ namespace iraf_vo {
 
 bool AslFrameSource::read(long index, SourceImage* out) {
   if (index < 0 || index >= static_cast<long>(reader_->size())) return false;
+  out->right.release();  // a reused SourceImage keeps no right image of an earlier frame
+  out->error.clear();
   if (!reader_->loadImage(static_cast<size_t>(index), &out->gray, &out->error) && out->error.empty())
     out->error = "unreadable image";
   out->stamp = reader_->entries()[index].stamp();
