@@ -63,10 +63,8 @@ void OfflinePipeline::runFrontEnd() {
         it.ms_enhance = t.ms_enhance;
         it.ms_features = t.ms_features;
         if (options_.stereo && !in.image.right.empty() && in.image.right.size() == in.image.gray.size()) {
-          it.right = front_end_right_.process(in.image.right, in.image.stamp, &t);
+          it.right_image = in.image.right;  // its features: rightFeatures(), when the tracker matches the frame
           it.has_right = true;
-          it.ms_enhance += t.ms_enhance;
-          it.ms_features += t.ms_features;
         }
       } catch (const std::exception& e) {
         it.error = true;
@@ -79,6 +77,14 @@ void OfflinePipeline::runFrontEnd() {
 }
 
 bool OfflinePipeline::next(FrontEndItem* item) { return front_queue_.pop(item); }
+
+FeatureFrame OfflinePipeline::rightFeatures(const FrontEndItem& item) {
+  FrontEndTiming t;
+  FeatureFrame f = front_end_right_.process(item.right_image, item.frame.stamp, &t);
+  ms_right_ += t.ms_enhance + t.ms_features;
+  ++right_processed_;
+  return f;
+}
 
 void OfflinePipeline::stop() {
   stop_ = true;

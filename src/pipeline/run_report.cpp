@@ -87,10 +87,9 @@ std::string RunRecorder::summary(const RunTotals& t) const {
       << " runs (lost, no pose, map kept); relocalized in the same map " << st.relocalizations
       << " times, at most " << st.frames_to_relocalize_max << " frames after the light returned\n";
   if (t.stereo)
-    s << "stereo: baseline " << t.baseline << " m, stereo matches per frame with a right image "
-      << (st.frames > st.right_missing_frames ? static_cast<double>(st.stereo_matches_total) /
-                                                     (st.frames - st.right_missing_frames)
-                                               : 0.0)
+    s << "stereo: baseline " << t.baseline << " m, left-right matched frames " << st.stereo_matched_frames
+      << " (initialization and keyframes), matches per matched frame "
+      << (st.stereo_matched_frames > 0 ? static_cast<double>(st.stereo_matches_total) / st.stereo_matched_frames : 0.0)
       << ", frames without a right image " << st.right_missing_frames << " (" << st.right_missing_events << " runs)\n";
   s << "wall " << t.wall_s << " s, " << fps(t)
     << " fps (reader, front-end, tracking and mapping threads in parallel); CPU " << t.cpu_s
@@ -155,7 +154,8 @@ bool RunRecorder::writeJson(const std::string& path, const RunTotals& t, std::st
   if (t.have_ate_final) js << ",\n  \"ate_final_rmse\": " << t.ate_final.ate.rmse;
   if (t.stereo)
     js << ",\n  \"stereo\": true,\n  \"baseline\": " << t.baseline << ",\n  \"stereo_matches_total\": "
-       << st.stereo_matches_total << ",\n  \"right_missing_frames\": " << st.right_missing_frames
+       << st.stereo_matches_total << ",\n  \"stereo_matched_frames\": " << st.stereo_matched_frames
+       << ",\n  \"right_missing_frames\": " << st.right_missing_frames
        << ",\n  \"right_missing_events\": " << st.right_missing_events;
   if (t.have_ate_se3) js << ",\n  \"ate_se3_rmse\": " << t.ate_se3.ate.rmse;
   js << "\n}\n";

@@ -182,7 +182,8 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "\niraf_vo_run: frame %ld skipped: %s\n", it.index, it.message.c_str());
       } else {
         const iraf_vo::TrackResult r =
-            a.stereo ? tracker.track(it.frame, it.has_right ? &it.right : nullptr) : tracker.track(it.frame);
+            a.stereo ? tracker.track(it.frame, it.has_right, [&] { return pipeline.rightFeatures(it); })
+                     : tracker.track(it.frame);
         if (a.stereo && r.right_missing != right_was_missing && r.right_missing)
           std::fprintf(stderr, "\niraf_vo_run: right image missing from frame %ld: continuing with the left camera\n",
                        it.index);

@@ -1,23 +1,12 @@
 // The tracker's state machine (tracking thread): initialization -> tracking -> lost -> relocalization or
 // reset. It owns the map, the local mapper, the initializer and the pose tracker and coordinates them
 // (see tracker.h for the whole algorithm).
-#include "iraf_vo/tracking/tracker.h"
+#include "tracker_impl.h"
 
 #include "iraf_vo/common/wall_clock.h"
-#include "iraf_vo/tracking/health_monitor.h"
-#include "iraf_vo/tracking/keyframe_policy.h"
-#include "iraf_vo/tracking/local_mapper.h"
-#include "iraf_vo/tracking/map.h"
-#include "iraf_vo/tracking/map_initializer.h"
 #include "iraf_vo/tracking/pose_covariance.h"
-#include "iraf_vo/tracking/pose_tracker.h"
-#include "iraf_vo/tracking/relocalizer.h"
-#include "iraf_vo/tracking/signal_check.h"
-#include "iraf_vo/tracking/stereo_matcher.h"
 
 #include <algorithm>
-#include <atomic>
-#include <mutex>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -33,79 +22,7 @@ const char* toString(TrackingState s) {
   return "?";
 }
 
-struct Tracker::Impl {
-  CameraModelPtr cam;
-  StereoRig rig;  // rig.right == nullptr: monocular
-  const TrackerParams p;
-  Map map;
-  LocalMapper mapper;
-  MapInitializer initializer;
-  PoseTracker pose_tracker;
-  TrackingHealthMonitor health;
-  SignalCheck signal;
-  Relocalizer relocalizer;
-  std::unique_ptr<StereoMatcher> stereo;  // null: monocular
-
-  mutable std::mutex stats_mutex;
-  TrackerStats stats;  // guarded by stats_mutex (the mapper keeps its BA stats)
-  std::atomic<TrackingState> state{TrackingState::kNotInitialized};
-
-  // ---- tracking thread only ----
-  long frame_counter = 0;
-  Frame last;                                                     // last tracked frame
-  long last_ref_kf = -1;                                          // keyframe the last frame's pose is relative to
-  Eigen::Isometry3d T_last_rel_kf = Eigen::Isometry3d::Identity();  // T_last_c_w * T_kf_c_w^-1
-  Eigen::Isometry3d velocity = Eigen::Isometry3d::Identity();
-  bool have_velocity = false;
-  long last_kf_id = -1;
-  int frames_since_kf = 0;
-  int consecutive_lost = 0;
-  bool reinitializing = false;  // map was reset after a loss and is being re-initialized
-  bool have_last_good = false;
-  Eigen::Isometry3d last_good_T_w_c = Eigen::Isometry3d::Identity();
-  double last_median_depth = 1.0;
-  bool last_dark = false;  // the previous frame was too dark
-  std::vector<StereoMatch> stereo_matches;  // of the current frame (empty without a right image)
-  bool last_right_missing = false;
-
-  Impl(CameraModelPtr c, const TrackerParams& params, const StereoRig& stereo_rig = StereoRig())
-      : cam(std::move(c)), rig(stereo_rig), p(params), mapper(*cam, p, &map), initializer(*cam, p), pose_tracker(*cam, p), health(p), signal(p), relocalizer(*cam, p) {
-    if (!rig.right) return;
-    stereo = std::make_unique<StereoMatcher>(rig, p);
-    mapper.setStereo(&rig);
-  }
-
-  template <class F>
-  void updateStats(F&& f) {
-    std::lock_guard<std::mutex> lk(stats_mutex);
-    f(stats);
-  }
-
-  TrackResult track(const FeatureFrame& in, const FeatureFrame* right = nullptr);
-  void matchStereo(Frame& cur, const FeatureFrame* right, TrackResult* res);
-  bool initializeMap(Frame& cur, TrackResult* res);
-  bool initializeStereo(Frame& cur, TrackResult* res);
-  bool trackWithMotionModel(Frame& cur, TrackResult* res);
-  Eigen::Isometry3d lastPose() const;
-  bool trackFrom(Frame& cur, const Eigen::Isometry3d& T_last, const Eigen::Isometry3d& T_predicted, TrackResult* res);
-  bool relocalizeAfterDarkness(Frame& cur, TrackResult* res);
-  Eigen::Matrix<double, 6, 6> initialPoseInformation(const Frame& cur) const;
-  std::string checkHealth(const Frame& cur, const PoseTrackingResult& r, const Eigen::Isometry3d& T_last,
-                          const Eigen::Isometry3d& T_predicted);
-  bool addKeyframeIfNeeded(const Frame& cur, TrackResult* res);
-  void handleLostFrame(const Frame& cur);
-  TrackResult darkFrame(SteadyClock::time_point t_start, TrackResult res);
-  void resetMap();
-  void onTracked(const Frame& cur, TrackResult* res, bool is_keyframe);
-  TrackResult notTracked(TrackingState reported, SteadyClock::time_point t_start, TrackResult res) const {
-    res.state = reported;
-    res.T_w_c = last_good_T_w_c;
-    res.timing.ms_total = msSince(t_start);
-    return res;
-  }
-};
-
-TrackResult Tracker::Impl::track(const FeatureFrame& in, const FeatureFrame* right) {
+TrackResult Tracker::Impl::track(const FeatureFrame& in, bool has_right, RightFeatures right) {
   const auto t_start = SteadyClock::now();
   TrackResult res;
   Frame cur;
@@ -125,7 +42,7 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in, const FeatureFrame* rig
     return darkFrame(t_start, res);
   }
   signal.lightFrame();
-  if (stereo) matchStereo(cur, right, &res);
+  if (stereo) beginStereo(has_right, std::move(right), &res);
 
   if (state == TrackingState::kNotInitialized || state == TrackingState::kInitializing) {
     t0 = SteadyClock::now();
@@ -188,82 +105,6 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in, const FeatureFrame* rig
   res.timing.ms_keyframe = msSince(t0);
   res.timing.ms_total = msSince(t_start);
   return res;
-}
-
-// Stereo: the right image's matches (empty without one); a missing right image is counted once per frame.
-void Tracker::Impl::matchStereo(Frame& cur, const FeatureFrame* right, TrackResult* res) {
-  const auto t0 = SteadyClock::now();
-  stereo_matches.clear();
-  const bool have_right = right && stereo->matchRight(&cur, *right, &stereo_matches);
-  res->timing.ms_match += msSince(t0);
-  res->right_missing = !have_right;
-  const bool new_run = !have_right && !last_right_missing;
-  last_right_missing = !have_right;
-  if (!have_right) {
-    updateStats([new_run](TrackerStats& s) {
-      s.right_missing_frames++;
-      if (new_run) s.right_missing_events++;
-    });
-    return;
-  }
-  res->stereo = true;
-  res->stereo_matches = static_cast<int>(stereo_matches.size());
-  updateStats([n = stereo_matches.size()](TrackerStats& s) {
-    s.stereo_matches_last = static_cast<long>(n);
-    s.stereo_matches_total += static_cast<long>(n);
-  });
-}
-
-// Stereo: a metric map from this frame alone (one keyframe, the points of its left-right matches), at the last
-// good pose after a loss.
-bool Tracker::Impl::initializeStereo(Frame& cur, TrackResult* res) {
-  cur.T_c_w = have_last_good ? last_good_T_w_c.inverse() : Eigen::Isometry3d::Identity();
-  std::fill(cur.point_id.begin(), cur.point_id.end(), -1);
-  auto kf = Keyframe::fromFrame(cur, cur.T_c_w);
-  int points = 0;
-  if (!map.createStereoMap(kf, stereoMapPoints(stereo_matches, cur, false), p.stereo_init_min_points, &points)) {
-    res->init_status = "stereo: too few left-right matches (" + std::to_string(points) + " < " +
-                       std::to_string(p.stereo_init_min_points) + ")";
-    return false;
-  }
-  initializer.clearReference();
-  cur.point_id = kf->point_id;
-  last_kf_id = kf->id;
-  res->inliers = points;
-  res->is_keyframe = true;
-  res->inlier_ratio = 1.0;
-  res->covariance = worldPoseCovariance(initialPoseInformation(cur), cur.T_c_w);
-  have_velocity = false;
-  return true;
-}
-
-bool Tracker::Impl::initializeMap(Frame& cur, TrackResult* res) {
-  if (stereo && res->stereo) return initializeStereo(cur, res);
-  MapAnchor anchor;
-  if (have_last_good) {  // after a loss: continue at the last good pose with the last median depth
-    anchor.T_w_ref = last_good_T_w_c;
-    anchor.median_depth = last_median_depth;
-  }
-  KeyframePtr kf0, kf1;
-  int points = 0;
-  if (!initializer.initialize(cur, anchor, &map, &kf0, &kf1, &points)) {
-    res->init_status = initializer.lastFailure();
-    return false;
-  }
-  last_kf_id = kf1->id;
-  res->inliers = points;
-  res->is_keyframe = true;
-  res->inlier_ratio = 1.0;
-  res->covariance = worldPoseCovariance(initialPoseInformation(cur), cur.T_c_w);
-  // Per-frame velocity from the average motion over the initialization baseline.
-  const int nframes = std::max<long>(1, kf1->frame_index - kf0->frame_index);
-  const Eigen::Isometry3d T_rel = kf1->T_c_w * kf0->T_c_w.inverse();
-  Eigen::Quaterniond q(T_rel.rotation());
-  velocity.setIdentity();
-  velocity.linear() = Eigen::Quaterniond::Identity().slerp(1.0 / nframes, q).toRotationMatrix();
-  velocity.translation() = T_rel.translation() / nframes;
-  have_velocity = true;
-  return true;
 }
 
 bool Tracker::Impl::trackWithMotionModel(Frame& cur, TrackResult* res) {
@@ -357,7 +198,7 @@ std::string Tracker::Impl::checkHealth(const Frame& cur, const PoseTrackingResul
   return health.check(in);
 }
 
-bool Tracker::Impl::addKeyframeIfNeeded(const Frame& cur, TrackResult* res) {
+bool Tracker::Impl::addKeyframeIfNeeded(Frame& cur, TrackResult* res) {
   KeyframeCandidate c;
   c.frames_since_keyframe = frames_since_kf;
   c.inliers = res->inliers;
@@ -365,7 +206,8 @@ bool Tracker::Impl::addKeyframeIfNeeded(const Frame& cur, TrackResult* res) {
     c.reference_tracked = map.trackedPoints(last_kf_id, 2);
   if (!needNewKeyframe(c, p)) return false;
   // mapped right here: the next frames match its new points (stereo: its close points first)
-  last_kf_id = mapper.addKeyframe(cur, stereoMapPoints(stereo_matches, cur, true));
+  last_kf_id = mapper.addKeyframe(cur, stereo ? stereoMapPoints(stereoMatches(cur, res), cur, true)
+                                             : std::vector<StereoMapPoint>());
   updateStats([](TrackerStats& s) { s.keyframes++; });
   frames_since_kf = 0;
   res->is_keyframe = true;
@@ -455,7 +297,13 @@ Tracker::Tracker(const StereoRig& rig, const TrackerParams& params) {
 Tracker::~Tracker() = default;
 
 TrackResult Tracker::track(const FeatureFrame& frame) { return impl_->track(frame); }
-TrackResult Tracker::track(const FeatureFrame& left, const FeatureFrame* right) { return impl_->track(left, right); }
+TrackResult Tracker::track(const FeatureFrame& left, const FeatureFrame* right) {
+  if (!right || right->keypoints.empty()) return impl_->track(left);
+  return impl_->track(left, true, [right] { return *right; });
+}
+TrackResult Tracker::track(const FeatureFrame& left, bool has_right, RightFeatures right) {
+  return impl_->track(left, has_right, std::move(right));
+}
 bool Tracker::isStereo() const { return impl_->rig.right != nullptr; }
 const StereoRig& Tracker::rig() const { return impl_->rig; }
 std::vector<Eigen::Vector3d> Tracker::mapPoints() const { return impl_->map.pointPositions(); }

@@ -20,15 +20,15 @@ struct PipelineOptions {
   int width = 0, height = 0;  // the camera's image size: another size stops the run (fatal)
   std::string camera_name;    // for that message
   size_t queue_capacity = 4;
-  bool stereo = false;  // run the front-end on the right images too (a second FrontEnd, same parameters)
+  bool stereo = false;  // pass the right images on; rightFeatures() runs a second FrontEnd (same parameters)
 };
 
 /// One frame leaving the front-end, in frame order.
 struct FrontEndItem {
   long index = 0;
   FeatureFrame frame;
-  FeatureFrame right;      // stereo: the right image's features
-  bool has_right = false;  // stereo: this frame has a right image (right is valid)
+  cv::Mat right_image;     // stereo: the right image (its features: OfflinePipeline::rightFeatures)
+  bool has_right = false;  // stereo: this frame has a right image
   double ms_read = 0, ms_enhance = 0, ms_features = 0;
   bool error = false;  // unreadable image or front-end failure: skip the frame
   bool fatal = false;  // stop the run (image size != camera size)
@@ -48,6 +48,11 @@ class OfflinePipeline {
   bool next(FrontEndItem* item);
   /// Stops and joins the threads (early stop: queued frames are dropped).
   void stop();
+  /// Stereo: the right image's features (the same enhance + feature parameters as the left), computed on the
+  /// caller's thread when the tracker needs them (Tracker::track with RightFeatures).
+  FeatureFrame rightFeatures(const FrontEndItem& item);
+  long rightFramesProcessed() const { return right_processed_; }
+  double rightFrontEndMs() const { return ms_right_; }  // summed over those frames
 
  private:
   struct ReadItem {
@@ -62,7 +67,9 @@ class OfflinePipeline {
   FrameSource* source_;
   PipelineOptions options_;
   FrontEnd front_end_;
-  FrontEnd front_end_right_;  // stereo: its own buffers, the same parameters
+  FrontEnd front_end_right_;  // stereo: its own buffers, the same parameters; the caller's thread only
+  long right_processed_ = 0;
+  double ms_right_ = 0.0;
   BoundedQueue<ReadItem> read_queue_;
   BoundedQueue<FrontEndItem> front_queue_;
   std::atomic<bool> stop_{false};

@@ -39,6 +39,7 @@
 #include "iraf_vo/camera/stereo_rig.h"
 #include "iraf_vo/features/feature_frame.h"
 #include "iraf_vo/tracking/map.h"
+#include "iraf_vo/tracking/stereo_frame.h"
 #include "iraf_vo/tracking/tracker_params.h"
 
 #include <Eigen/Core>
@@ -88,7 +89,7 @@ struct TrackResult {
   std::string init_status;    // while initializing: why this frame did not initialize the map
   bool stereo = false;         // stereo tracker: the right image of this frame was used
   bool right_missing = false;  // stereo tracker: this frame had no right image (tracked with the left camera)
-  int stereo_matches = 0;      // stereo tracker: left-right matches of this frame (triangulated, checked)
+  int stereo_matches = 0;      // stereo tracker: left-right matches of this frame (0 when not matched)
   TrackTiming timing;
 };
 
@@ -111,8 +112,9 @@ struct TrackerStats {
   double ba_final_rmse_px = 0.0;   // last BA
   long right_missing_frames = 0;   // stereo tracker: frames without a right image
   long right_missing_events = 0;   // runs of consecutive frames without a right image
-  long stereo_matches_last = 0;    // left-right matches of the last frame with a right image
-  long stereo_matches_total = 0;   // summed over the frames with a right image
+  long stereo_matched_frames = 0;  // frames matched left-right (the initialization and keyframes with a right image)
+  long stereo_matches_last = 0;    // left-right matches of the last matched frame
+  long stereo_matches_total = 0;   // summed over the matched frames
 };
 
 
@@ -134,6 +136,10 @@ class Tracker {
   /// no right image; the tracker continues in its metric map with the left camera (TrackResult::right_missing,
   /// TrackerStats::right_missing_frames). On a monocular tracker the right frame is ignored.
   TrackResult track(const FeatureFrame& left, const FeatureFrame* right);
+  /// Stereo frame whose right features are computed only if the tracker matches this frame (the stereo
+  /// initialization and new keyframes; stereo_frame.h): right() is called at most once, inside this call.
+  /// has_right false: no right image, as right == nullptr above.
+  TrackResult track(const FeatureFrame& left, bool has_right, RightFeatures right);
   bool isStereo() const;
   /// The rig of a stereo tracker (left = the camera of the monocular constructor, right = null for mono).
   const StereoRig& rig() const;

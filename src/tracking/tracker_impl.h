@@ -1,0 +1,95 @@
+// Tracker::Impl, the tracker's state (tracking thread) and its steps, shared by tracker.cpp (the state machine)
+// and tracker_init.cpp (map initialization, monocular and stereo). Private to src/tracking.
+#pragma once
+
+#include "iraf_vo/tracking/tracker.h"
+
+#include "iraf_vo/common/wall_clock.h"
+#include "iraf_vo/tracking/health_monitor.h"
+#include "iraf_vo/tracking/keyframe_policy.h"
+#include "iraf_vo/tracking/local_mapper.h"
+#include "iraf_vo/tracking/map.h"
+#include "iraf_vo/tracking/map_initializer.h"
+#include "iraf_vo/tracking/pose_tracker.h"
+#include "iraf_vo/tracking/relocalizer.h"
+#include "iraf_vo/tracking/signal_check.h"
+#include "iraf_vo/tracking/stereo_frame.h"
+
+#include <atomic>
+#include <memory>
+#include <mutex>
+
+namespace iraf_vo {
+
+struct Tracker::Impl {
+  CameraModelPtr cam;
+  StereoRig rig;  // rig.right == nullptr: monocular
+  const TrackerParams p;
+  Map map;
+  LocalMapper mapper;
+  MapInitializer initializer;
+  PoseTracker pose_tracker;
+  TrackingHealthMonitor health;
+  SignalCheck signal;
+  Relocalizer relocalizer;
+  std::unique_ptr<StereoFrame> stereo;  // null: monocular
+
+  mutable std::mutex stats_mutex;
+  TrackerStats stats;  // guarded by stats_mutex (the mapper keeps its BA stats)
+  std::atomic<TrackingState> state{TrackingState::kNotInitialized};
+
+  // ---- tracking thread only ----
+  long frame_counter = 0;
+  Frame last;                                                     // last tracked frame
+  long last_ref_kf = -1;                                          // keyframe the last frame's pose is relative to
+  Eigen::Isometry3d T_last_rel_kf = Eigen::Isometry3d::Identity();  // T_last_c_w * T_kf_c_w^-1
+  Eigen::Isometry3d velocity = Eigen::Isometry3d::Identity();
+  bool have_velocity = false;
+  long last_kf_id = -1;
+  int frames_since_kf = 0;
+  int consecutive_lost = 0;
+  bool reinitializing = false;  // map was reset after a loss and is being re-initialized
+  bool have_last_good = false;
+  Eigen::Isometry3d last_good_T_w_c = Eigen::Isometry3d::Identity();
+  double last_median_depth = 1.0;
+  bool last_dark = false;  // the previous frame was too dark
+
+  Impl(CameraModelPtr c, const TrackerParams& params, const StereoRig& stereo_rig = StereoRig())
+      : cam(std::move(c)), rig(stereo_rig), p(params), mapper(*cam, p, &map), initializer(*cam, p), pose_tracker(*cam, p), health(p), signal(p), relocalizer(*cam, p) {
+    if (!rig.right) return;
+    stereo = std::make_unique<StereoFrame>(rig, p);
+    mapper.setStereo(&rig);
+  }
+
+  template <class F>
+  void updateStats(F&& f) {
+    std::lock_guard<std::mutex> lk(stats_mutex);
+    f(stats);
+  }
+
+  TrackResult track(const FeatureFrame& in, bool has_right = false, RightFeatures right = RightFeatures());
+  void beginStereo(bool has_right, RightFeatures right, TrackResult* res);
+  const std::vector<StereoMatch>& stereoMatches(Frame& cur, TrackResult* res);
+  bool initializeMap(Frame& cur, TrackResult* res);
+  bool initializeStereo(Frame& cur, TrackResult* res);
+  bool trackWithMotionModel(Frame& cur, TrackResult* res);
+  Eigen::Isometry3d lastPose() const;
+  bool trackFrom(Frame& cur, const Eigen::Isometry3d& T_last, const Eigen::Isometry3d& T_predicted, TrackResult* res);
+  bool relocalizeAfterDarkness(Frame& cur, TrackResult* res);
+  Eigen::Matrix<double, 6, 6> initialPoseInformation(const Frame& cur) const;
+  std::string checkHealth(const Frame& cur, const PoseTrackingResult& r, const Eigen::Isometry3d& T_last,
+                          const Eigen::Isometry3d& T_predicted);
+  bool addKeyframeIfNeeded(Frame& cur, TrackResult* res);
+  void handleLostFrame(const Frame& cur);
+  TrackResult darkFrame(SteadyClock::time_point t_start, TrackResult res);
+  void resetMap();
+  void onTracked(const Frame& cur, TrackResult* res, bool is_keyframe);
+  TrackResult notTracked(TrackingState reported, SteadyClock::time_point t_start, TrackResult res) const {
+    res.state = reported;
+    res.T_w_c = last_good_T_w_c;
+    res.timing.ms_total = msSince(t_start);
+    return res;
+  }
+};
+
+}  // namespace iraf_vo
