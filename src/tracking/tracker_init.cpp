@@ -41,9 +41,9 @@ const std::vector<StereoMatch>& Tracker::Impl::stereoMatches(Frame& cur, TrackRe
 bool Tracker::Impl::initializeStereo(Frame& cur, TrackResult* res) {
   cur.T_c_w = have_last_good ? last_good_T_w_c.inverse() : Eigen::Isometry3d::Identity();
   std::fill(cur.point_id.begin(), cur.point_id.end(), -1);
-  auto kf = Keyframe::fromFrame(cur, cur.T_c_w);
-  int points = 0;
   const std::vector<StereoMapPoint> points_w = stereoMapPoints(stereoMatches(cur, res), cur, false);
+  auto kf = Keyframe::fromFrame(cur, cur.T_c_w);  // after the matching: with the right observations
+  int points = 0;
   if (!map.createStereoMap(kf, points_w, p.stereo_init_min_points, &points)) {
     res->init_status = "stereo: too few left-right matches (" + std::to_string(points) + " < " +
                        std::to_string(p.stereo_init_min_points) + ")";
