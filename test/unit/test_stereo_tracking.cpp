@@ -16,13 +16,15 @@ namespace {
 
 struct StereoRun {
   int tracked = 0, first_tracked = -1, right_missing_results = 0;
+  int right_features_calls = 0;  // on_demand: how often the tracker asked for the right features
+  std::vector<Eigen::Vector3d> positions;
   double path_true = 0.0, path_est = 0.0, max_position_error = 0.0;
   TrackerStats stats;
 };
 
 /// 70 frames through a textured box (sideways and forward motion, some yaw); world = the first left camera.
-/// Frames >= right_until get no right image.
-StereoRun runSequence(CameraModelPtr cam, int right_until, int frames = 70) {
+/// Frames >= right_until get no right image. on_demand: the right features through Tracker::track's RightFeatures.
+StereoRun runSequence(CameraModelPtr cam, int right_until, int frames = 70, bool on_demand = false) {
   StereoRig rig;
   rig.left = rig.right = cam;
   rig.T_r_l = makePose(Eigen::Vector3d(0.3, -1.0, 0.2), Eigen::Vector3d(-0.11, 0.002, 0.001));
@@ -40,13 +42,18 @@ StereoRun runSequence(CameraModelPtr cam, int right_until, int frames = 70) {
         makePose(Eigen::Vector3d(0.0, 8.0 * std::sin(0.05 * i), 0.0), Eigen::Vector3d(0.02 * i, 0.0, 0.01 * i));
     const FeatureFrame left = world.render(*cam, T_w_l, 0.05 * i, 0.3, 4);
     const FeatureFrame right = world.render(*cam, T_w_l * rig.T_r_l.inverse(), 0.05 * i, 0.3, 4);
-    const TrackResult r = tracker.track(left, i < right_until ? &right : nullptr);
+    const TrackResult r = on_demand ? tracker.track(left, i < right_until, [&] {
+      ++out.right_features_calls;
+      return right;
+    })
+                                    : tracker.track(left, i < right_until ? &right : nullptr);
     out.right_missing_results += r.right_missing;
     EXPECT_EQ(r.stereo, i < right_until) << "frame " << i;
     if (r.state != TrackingState::kTracking) continue;
     if (out.first_tracked < 0) out.first_tracked = i;
     ++out.tracked;
     const Eigen::Vector3d est = r.T_w_c.translation();
+    out.positions.push_back(est);
     out.max_position_error = std::max(out.max_position_error, (est - T_w_l.translation()).norm());
     if (out.tracked > 1) {
       out.path_true += (T_w_l.translation() - last_true).norm();
@@ -74,6 +81,20 @@ TEST(StereoTracking, MetricFromTheFirstFrame) {
   EXPECT_NEAR(r.path_est / r.path_true, 1.0, 0.01);
   EXPECT_LT(r.max_position_error, 0.01 * r.path_true);
   EXPECT_EQ(r.stats.right_missing_frames, 0);
+}
+
+// The right features are asked for only on the frames that are matched left-right (the initialization and the
+// keyframes), and the poses are the same as with every frame's right features given.
+TEST(StereoTracking, RightFeaturesOnlyForTheMatchedFrames) {
+  auto cam = std::make_shared<TestPinhole>(752, 480, 458.0, 376.0, 240.0);
+  const StereoRun given = runSequence(cam, 1000, 40);
+  const StereoRun on_demand = runSequence(cam, 1000, 40, true);
+  EXPECT_EQ(on_demand.right_features_calls, on_demand.stats.stereo_matched_frames);
+  EXPECT_EQ(on_demand.stats.stereo_matched_frames, on_demand.stats.keyframes);
+  EXPECT_LT(on_demand.right_features_calls, 40 / 2);
+  EXPECT_EQ(given.stats.stereo_matched_frames, on_demand.stats.stereo_matched_frames);
+  ASSERT_EQ(given.positions.size(), on_demand.positions.size());
+  for (size_t i = 0; i < given.positions.size(); ++i) EXPECT_EQ(given.positions[i], on_demand.positions[i]) << i;
 }
 
 TEST(StereoTracking, FisheyePairIsMetricToo) {
