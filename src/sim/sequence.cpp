@@ -311,7 +311,7 @@ bool simulateSequence(const Renderer& renderer, const Renderer* right, const Tra
     rep->render_ms += msSince(t0);
     t0 = SteadyClock::now();
     right_formation->captureWithExposure(f->index, f->light.exposure, radiance, geometry ? &gr : nullptr,
-                                         &f->right_image);
+                                         &f->right_image, &f->right_light);
     rep->photometric_ms += msSince(t0);
   };
   if (!writeSimulation(renderer, right, traj, light.scene, form, out_dir, on_frame, report, error)) return false;

@@ -46,6 +46,7 @@ struct SimFrame {
   cv::Mat right_image;  // CV_8UC1, stereo simulations: cam1 (same exposure and gain, own sensor noise), else empty
   cv::Mat depth;  // CV_32FC1 z-depth (m) when SimParams::write_depth (or the light profile needs it), else empty
   FrameLight light;  // exposure, gain, scene light of the frame (light-profile simulations)
+  FrameLight right_light;  // the same for cam1 (stereo)
 };
 
 struct SimulateReport {
