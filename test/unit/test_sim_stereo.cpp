@@ -91,7 +91,7 @@ void expectRigGeometry(const std::string& camera, const iraf_vo::StereoRigParams
   left.render(T_W_C0, &L, &Z);
   cv::Mat Z2;  // second differences of the depth: 0 on a plane (nearly, over a patch), large at edges
   cv::Laplacian(Z, Z2, CV_32F, 1);
-  right.render(T_W_C0 * T_C0_C1, &R);
+  right.renderFrame(traj, 1, &R);  // the simulator's own right view (no motion blur by default)
   const int half = 10;
   int checked = 0;
   double worst = 0.0;
