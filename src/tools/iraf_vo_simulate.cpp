@@ -37,7 +37,7 @@
 #include "iraf_vo/sim/scene.h"
 #include "iraf_vo/sim/scene_presets.h"
 #include "iraf_vo/sim/sequence.h"
-#include "iraf_vo/sim/stereo_rig.h"
+#include "iraf_vo/sim/sim_stereo_rig.h"
 
 int main(int argc, char** argv) {
   iraf_vo::SimParams sim;
@@ -47,7 +47,7 @@ int main(int argc, char** argv) {
   int seed = 1, benchmark = 0;
   double static_start = 0.0;
   bool no_photos = false, stereo = false;
-  iraf_vo::StereoRigParams rig;
+  iraf_vo::SimStereoRig rig;
   iraf_vo::CommandLine cli(
       "iraf_vo_simulate",
       "Renders a textured scene along a motion preset and writes an ASL folder (+ TUM ground truth, events.csv).\n"

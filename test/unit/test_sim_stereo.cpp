@@ -22,7 +22,7 @@
 #include "iraf_vo/sim/scene.h"
 #include "iraf_vo/sim/sensor_model.h"
 #include "iraf_vo/sim/sequence.h"
-#include "iraf_vo/sim/stereo_rig.h"
+#include "iraf_vo/sim/sim_stereo_rig.h"
 
 namespace fs = std::filesystem;
 
@@ -64,7 +64,7 @@ bool findPatch(const cv::Mat& image, const cv::Mat& patch, const cv::Rect& searc
 /// Simulates 2 stereo frames of the room with `camera` and `rig`, then checks textured left pixels:
 /// the ray's hit point, moved into cam1 with the T_BS read back from cam1/sensor.yaml, projects where the
 /// patch is found in the right image (noise-free radiance of the same renderers).
-void expectRigGeometry(const std::string& camera, const iraf_vo::StereoRigParams& rig, double expect_baseline) {
+void expectRigGeometry(const std::string& camera, const iraf_vo::SimStereoRig& rig, double expect_baseline) {
   std::string err;
   auto cam = iraf_vo::makeSimCamera(camera, 0, 0, &err);
   ASSERT_TRUE(cam) << err;
@@ -145,11 +145,11 @@ void expectRigGeometry(const std::string& camera, const iraf_vo::StereoRigParams
 }  // namespace
 
 TEST(SimStereo, PointsLandWhereTheRigSays) {
-  expectRigGeometry("pinhole", iraf_vo::StereoRigParams(), 0.110);
-  iraf_vo::StereoRigParams turned;  // a rig that is not quite parallel, TUM-VI baseline
+  expectRigGeometry("pinhole", iraf_vo::SimStereoRig(), 0.110);
+  iraf_vo::SimStereoRig turned;  // a rig that is not quite parallel, TUM-VI baseline
   turned.yaw_deg = 1.0, turned.roll_deg = -0.5;
   expectRigGeometry("fisheye", turned, 0.101);
-  iraf_vo::StereoRigParams wide;
+  iraf_vo::SimStereoRig wide;
   wide.baseline_m = 0.25, wide.pitch_deg = 0.5;
   expectRigGeometry("pinhole", wide, 0.25);
   EXPECT_DOUBLE_EQ(iraf_vo::defaultStereoBaseline("fisheye"), 0.101);
@@ -167,7 +167,7 @@ TEST(SimStereo, RightCameraTakesTheLeftExposureWithItsOwnNoise) {
   iraf_vo::SimParams params;
   params.frames = 14;
   iraf_vo::Renderer left(cam, scene, params), right(cam, scene, params);
-  right.setPoseInRig(iraf_vo::rightCameraInLeft(iraf_vo::StereoRigParams(), "pinhole"));
+  right.setPoseInRig(iraf_vo::rightCameraInLeft(iraf_vo::SimStereoRig(), "pinhole"));
   iraf_vo::LightProfile light;
   ASSERT_TRUE(iraf_vo::lightProfile("ae_hunting", params.frames, params.rate_hz, params.exposure_time_s, false, 1,
                                     &light));

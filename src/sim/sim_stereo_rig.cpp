@@ -1,4 +1,4 @@
-#include "iraf_vo/sim/stereo_rig.h"
+#include "iraf_vo/sim/sim_stereo_rig.h"
 
 #include <cmath>
 #include <sstream>
@@ -12,7 +12,7 @@ double defaultStereoBaseline(const std::string& camera) {
   return 0.10;                             // davis240 and sensor.yaml cameras
 }
 
-std::string validate(const StereoRigParams& rig) {
+std::string validate(const SimStereoRig& rig) {
   std::ostringstream err;
   if (!(rig.baseline_m <= 5.0)) err << "baseline must be <= 5 m (got " << rig.baseline_m << "); ";
   for (const double a : {rig.yaw_deg, rig.pitch_deg, rig.roll_deg})
@@ -23,7 +23,7 @@ std::string validate(const StereoRigParams& rig) {
   return err.str();
 }
 
-Eigen::Isometry3d rightCameraInLeft(const StereoRigParams& rig, const std::string& camera) {
+Eigen::Isometry3d rightCameraInLeft(const SimStereoRig& rig, const std::string& camera) {
   const double deg = M_PI / 180.0;
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = (Eigen::AngleAxisd(rig.yaw_deg * deg, Eigen::Vector3d::UnitY()) *
