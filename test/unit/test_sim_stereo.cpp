@@ -4,9 +4,11 @@
 // cam0's exposure and gain on every frame with its own sensor noise; iraf_vo_degrade degrades cam1 with
 // cam0's exposure and independent noise.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -249,4 +251,26 @@ TEST(SimStereo, DegradeTakesCam1AlongWithTheLeftExposure) {
     EXPECT_GT(cv::countNonZero(a != b), static_cast<int>(a.total() / 4)) << "frame " << i;
   }
   EXPECT_GT(hi - lo, 10.0) << "the hunting auto-exposure must move the grey for the test to mean anything";
+}
+
+TEST(SimStereo, SimulateCommandLine) {
+  const std::string bin = IRAF_VO_BIN_DIR;
+  if (!fs::exists(bin + "/iraf_vo_simulate")) GTEST_SKIP() << "iraf_vo_simulate not built";
+  const std::string out = freshDir("cli");
+  auto run = [](const std::string& cmd) {
+    const int rc = std::system((cmd + " > /dev/null 2>&1").c_str());
+    return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+  };
+  const std::string sim = bin + "/iraf_vo_simulate --preset clean --frames 3 --width 94 --height 60 --no-photos";
+  ASSERT_EQ(run(sim + " --camera fisheye --stereo --out " + out), 0);
+  std::string err;
+  iraf_vo::CameraModelPtr cam1 = iraf_vo::loadCamera(out + "/mav0/cam1/sensor.yaml", &err);
+  ASSERT_TRUE(cam1) << err;
+  EXPECT_NEAR(cam1->T_BS(0, 3), 0.101, 1e-12);  // the TUM-VI rig's baseline by default
+  std::ifstream csv0(out + "/mav0/cam0/data.csv"), csv1(out + "/mav0/cam1/data.csv");
+  const std::string rows0((std::istreambuf_iterator<char>(csv0)), std::istreambuf_iterator<char>());
+  const std::string rows1((std::istreambuf_iterator<char>(csv1)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(rows0, rows1);  // same timestamps and names
+  EXPECT_NE(run(sim + " --baseline 0.2 --out " + out + "_b"), 0) << "--baseline needs --stereo";
+  EXPECT_NE(run(sim + " --stereo --rig-yaw 45 --out " + out + "_c"), 0) << "rig angle out of range";
 }
