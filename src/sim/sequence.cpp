@@ -264,7 +264,8 @@ bool simulateSequence(const Renderer& renderer, const Renderer* right, const Tra
     setError(error, "light profile '" + light.name + "': " + lerr);
     return false;
   }
-  if (right && (right->params().frames != renderer.params().frames || right->params().rate_hz != renderer.params().rate_hz)) {
+  if (right && (right->params().frames != renderer.params().frames ||
+                right->params().rate_hz != renderer.params().rate_hz)) {
     setError(error, "stereo: the right camera's frames and rate must be the left's");
     return false;
   }
