@@ -102,7 +102,7 @@ print("summary: peak RSS %.1f MiB" % (int(rss.group(1)) / 1024.0 if rss else flo
 PY
 done
 first_mode="${modes%% *}"
-if [[ -f "$dataset/mav0/cam1/data.csv" && -f "$out/$first_mode.log" ]] && "$bin/iraf_vo_run" --help 2>&1 | grep -q -- '--stereo'; then
+if [[ -f "$dataset/mav0/cam1/data.csv" && -f "$out/$first_mode.log" ]] && grep -q -- '--stereo' <<< "$("$bin/iraf_vo_run" --help 2>&1)"; then
   echo "== whole VO stereo, mode $first_mode, frames 0-$((frames - 1)): target <= 1.7 x the mono CPU per frame"
   args=(--dataset "$dataset" --stereo --frames "$frames" --mode "$first_mode" --out "$out/stereo.txt" --stats "$out/stereo.json" --quiet)
   [[ -f "$gt" ]] && args+=(--gt "$gt")

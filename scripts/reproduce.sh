@@ -398,7 +398,7 @@ if [[ ${#scen[@]} -gt 0 ]]; then
 fi
 [[ -f "$out/repeatability.md" ]] && cat "$out/repeatability.md" >> "$out/report.md"
 if [[ $do_stereo == 1 ]]; then
-  if "$bin/iraf_vo_run" --help 2>&1 | grep -q -- '--stereo'; then
+  if grep -q -- '--stereo' <<< "$("$bin/iraf_vo_run" --help 2>&1)"; then
     log "stereo table (scripts/stereo_table.sh)"
     stereo_args=(--out "$out/stereo")
     [[ $do_euroc == 1 ]] || stereo_args+=(--no-euroc)

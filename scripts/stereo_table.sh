@@ -52,7 +52,7 @@ done
 for t in iraf_vo_run iraf_vo_eval iraf_vo_simulate; do
   [[ -x "$bin/$t" ]] || die "$bin/$t missing (run scripts/setup.sh)"
 done
-if ! "$bin/iraf_vo_run" --help 2>&1 | grep -q -- '--stereo'; then
+if ! grep -q -- '--stereo' <<< "$("$bin/iraf_vo_run" --help 2>&1)"; then
   echo "stereo_table.sh: $bin/iraf_vo_run has no --stereo: no stereo table" >&2
   exit 3
 fi
