@@ -1,7 +1,5 @@
 #include "iraf_vo/sim/scene_presets.h"
 
-#include <opencv2/imgproc.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -165,15 +163,13 @@ Scene makeHighwayScene(const SceneParams& params, const TrajectoryParams& traj, 
   std::vector<SceneTexture> tex;
   const float ftpm = static_cast<float>(tpm);
   for (int i = 0; i < 4; ++i) tex.emplace_back(makeFacadeTexture(fw, fh, tpm, ts + i), ftpm);
-  // Worn, even road surface: the asphalt's contrast cut to 30 % (grain and patches fade, dashes stay visible).
+  // Worn road surface: the asphalt's contrast cut to 60 % (fainter grain and patches).
   cv::Mat road = makeAsphaltTexture(nextPow2(32 * tpm), nextPow2(32 * tpm), tpm, ts + 4);
-  road.convertTo(road, CV_8U, 0.3, 0.7 * cv::mean(road)[0]);
+  road.convertTo(road, CV_8U, 0.6, 0.4 * cv::mean(road)[0]);
   tex.emplace_back(road, ftpm);
-  // Open sky, seen at grazing angles up to the horizon: only its cloud shapes (> 2 m), no fine texture.
-  cv::Mat sky = makeSkyTexture(nextPow2(16 * tpm), nextPow2(16 * tpm), tpm, ts + 5), sky_small;
-  cv::resize(sky, sky_small, cv::Size(sky.cols / 256, sky.rows / 256), 0, 0, cv::INTER_AREA);
-  cv::resize(sky_small, sky, sky.size(), 0, 0, cv::INTER_CUBIC);
-  tex.emplace_back(sky, ftpm);
+  // Open, hazy sky seen at grazing angles up to the horizon: even (the street's clouds alias into a moire here).
+  const cv::Mat sky = makeSkyTexture(nextPow2(16 * tpm), nextPow2(16 * tpm), tpm, ts + 5);
+  tex.emplace_back(cv::Mat(sky.size(), CV_8UC1, cv::Scalar(cv::mean(sky)[0])), ftpm);
   tex.emplace_back(makeFoliageTexture(nextPow2(8 * tpm), nextPow2(8 * tpm), tpm, ts + 6), ftpm);
   for (int i = 0; i < 2; ++i)
     tex.emplace_back(makeProceduralTexture(nextPow2(4 * tpm), nextPow2(4 * tpm), tpm, ts + 7 + i), ftpm);
