@@ -88,6 +88,7 @@ struct Hypothesis {
   int good = 0;
   double parallax_deg = 0.0;         // the tested one (TwoViewParams::min_parallax_points)
   double median_parallax_deg = 0.0;
+  double few_parallax_deg = 0.0;     // the determined_parallax_points-th largest
   std::vector<Eigen::Vector3d> points;
   std::vector<char> ok;
 };
@@ -129,6 +130,8 @@ void checkRT(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, const std::vect
     const size_t n = parallaxes.size();
     const size_t rank = params.min_parallax_points > 0 ? std::min<size_t>(params.min_parallax_points, n) - 1 : n / 2;
     h->parallax_deg = parallaxes[rank];
+    if (params.determined_parallax_points > 0)
+      h->few_parallax_deg = parallaxes[std::min<size_t>(params.determined_parallax_points, n) - 1];
   }
 }
 
@@ -244,8 +247,14 @@ const Hypothesis* selectHypothesis(std::vector<Hypothesis>* hyps, const TwoViewP
   // parallax (measured: 0.95 deg median where the essential matrix gives 0.2): its median point must pass.
   const bool homography = res->model == "homography";
   const double tested = homography ? best.median_parallax_deg : best.parallax_deg;
-  if (tested < params.min_parallax_deg ||
-      best.median_parallax_deg < (homography ? params.min_parallax_deg : params.min_median_parallax_deg)) {
+  const bool strict = tested >= params.min_parallax_deg &&
+                      best.median_parallax_deg >= (homography ? params.min_parallax_deg : params.min_median_parallax_deg);
+  // Forward motion past far structure: only the few near points have parallax. Accepted when the translation is
+  // determined (the ambiguity check, run after the refinement, refuses it otherwise).
+  res->few_parallax_points = !strict && !homography && params.determined_parallax_points > 0 &&
+                             params.ambiguity_max_chi2 > 0.0 && best.few_parallax_deg >= params.min_parallax_deg;
+  if (res->few_parallax_points) res->parallax_deg = best.few_parallax_deg;
+  if (!strict && !res->few_parallax_points) {
     res->reason = res->model + ": parallax too low (" + std::to_string(best.parallax_deg) + " deg; median " +
                   std::to_string(best.median_parallax_deg) + ")";
     return nullptr;
@@ -319,8 +328,16 @@ void checkTranslationAmbiguity(const ForwardMatches& m, double focal, const TwoV
   ap.max_delta_chi2 = params.ambiguity_max_chi2;
   const MotionAmbiguity a = findTranslationAmbiguity(m.p1, m.p2, res->R_21, res->t_21, focal, ap);
   res->translation_profile_chi2 = a.profile_chi2;
-  if (!a.ambiguous) return;
+  if (!a.ambiguous && !(res->few_parallax_points && a.profile_chi2 < params.determined_min_chi2)) return;
   res->ok = false;
+  if (!a.ambiguous) {
+    char few[160];
+    std::snprintf(few, sizeof(few), "essential: parallax too low (%d-th point %.2f deg) for a translation this weakly "
+                  "determined (profile chi2 %.1f < %.0f)", params.determined_parallax_points, res->parallax_deg,
+                  a.profile_chi2, params.determined_min_chi2);
+    res->reason = few;
+    return;
+  }
   char buf[160];
   if (a.refined_shift_deg >= ap.min_angle_deg)
     std::snprintf(buf, sizeof(buf), "essential: translation not determined (refined on all matches it moves %.0f deg)",
