@@ -20,6 +20,9 @@ struct TwoViewParams {
                                         // determined: profile chi2 >= determined_min_chi2; 0 = off
   double determined_min_chi2 = 60.0;
   int min_triangulated = 50;
+  // Refused when a pure rotation explains this share of the chosen model's inliers (within 2 threshold_px): a
+  // camera that only turns or stands still (a homography then decomposes into a spurious motion); 1 = no check.
+  double max_rotation_inlier_ratio = 0.95;
   double homography_ratio = 0.45;  // R_H = S_H / (S_H + S_F) above this -> homography (ORB-SLAM)
   double model_fallback_margin = 0.1;  // |R_H - homography_ratio| below this and the chosen model fails its
                                        // checks -> the other model is tried (0 = never)
