@@ -69,6 +69,24 @@ double placeBeside(const Polyline& pl, double s, int side, double offset, double
   return -1.0;
 }
 
+/// Outdoor scene parameters around the sampled path: the room's walls `wall_margin_m` beyond the path's extent (the
+/// distant skyline), an emissive sky at sky_m, the sun far away (elevation ~40 deg) from the left-front.
+SceneParams outdoorParams(const SceneParams& params, const Polyline& pl, double wall_margin_m, double sky_m,
+                          double sky_shade) {
+  double max_x = 0, max_y = 0;
+  for (const auto& q : pl.p) max_x = std::max(max_x, std::abs(q.x())), max_y = std::max(max_y, std::abs(q.y()));
+  SceneParams sp = params;
+  sp.room_x = 2 * (max_x + wall_margin_m);
+  sp.room_y = 2 * (max_y + wall_margin_m);
+  sp.room_z = sky_m;
+  const Eigen::Vector3d sun = Eigen::Vector3d(0.35, 0.6, 0.72).normalized() * 1e5;
+  sp.light_x = sun.x(), sp.light_y = sun.y(), sp.light_z = sun.z();
+  sp.light_range_m = 1e7;
+  sp.ambient = 0.42;
+  sp.ceiling_shade = sky_shade;
+  return sp;
+}
+
 }  // namespace
 
 Scene makeStreetScene(const SceneParams& params, const TrajectoryParams& traj, double path_length_m) {
@@ -76,18 +94,8 @@ Scene makeStreetScene(const SceneParams& params, const TrajectoryParams& traj, d
   const double tpm = params.texels_per_m;
   const double s0 = -40.0, s1 = path_length_m + 80.0;
   const Polyline pl = samplePath(traj, s0, s1);
-  double max_x = 0, max_y = 0;
-  for (const auto& q : pl.p) max_x = std::max(max_x, std::abs(q.x())), max_y = std::max(max_y, std::abs(q.y()));
-  SceneParams sp = params;
-  sp.room_x = 2 * (max_x + 90.0);  // distant city walls beyond the last buildings
-  sp.room_y = 2 * (max_y + 90.0);
-  sp.room_z = 40.0;
-  // Sun: far away (elevation ~40 deg) from the left-front: left facades lit, right ones in shade.
-  const Eigen::Vector3d sun = Eigen::Vector3d(0.35, 0.6, 0.72).normalized() * 1e5;
-  sp.light_x = sun.x(), sp.light_y = sun.y(), sp.light_z = sun.z();
-  sp.light_range_m = 1e7;
-  sp.ambient = 0.42;
-  sp.ceiling_shade = 1.12;
+  // Distant city walls 90 m beyond the path; sun from the left-front: left facades lit, right ones in shade.
+  const SceneParams sp = outdoorParams(params, pl, 90.0, 40.0, 1.12);
 
   cv::RNG rng(params.seed * 6364136223846793005ull + 1442695040888963407ull);
   const uint64_t ts = params.seed * 32;
@@ -144,17 +152,8 @@ Scene makeHighwayScene(const SceneParams& params, const TrajectoryParams& traj, 
   const double tpm = params.texels_per_m;
   const double s0 = -60.0, s1 = path_length_m + 250.0;
   const Polyline pl = samplePath(traj, s0, s1);
-  double max_x = 0, max_y = 0;
-  for (const auto& q : pl.p) max_x = std::max(max_x, std::abs(q.x())), max_y = std::max(max_y, std::abs(q.y()));
-  SceneParams sp = params;
-  sp.room_x = 2 * (max_x + 320.0);  // hills / skyline beyond everything else
-  sp.room_y = 2 * (max_y + 320.0);
-  sp.room_z = 60.0;
-  const Eigen::Vector3d sun = Eigen::Vector3d(0.35, 0.6, 0.72).normalized() * 1e5;
-  sp.light_x = sun.x(), sp.light_y = sun.y(), sp.light_z = sun.z();
-  sp.light_range_m = 1e7;
-  sp.ambient = 0.42;
-  sp.ceiling_shade = 0.8;  // a hazy sky, mostly below saturation at the drive's exposure
+  // Hills / skyline 320 m beyond the path; a hazy sky at 60 m, mostly below saturation at the drive's exposure.
+  const SceneParams sp = outdoorParams(params, pl, 320.0, 60.0, 0.8);
 
   cv::RNG rng(params.seed * 2862933555777941757ull + 7046029254386353131ull);
   const uint64_t ts = params.seed * 32 + 16;
