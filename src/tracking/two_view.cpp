@@ -223,8 +223,10 @@ std::vector<Hypothesis> poseHypotheses(const TwoViewModels& models, bool use_h, 
   return hyps;
 }
 
-// The hypothesis with the most good points, if it is unambiguous, triangulates enough and has enough parallax.
-const Hypothesis* selectHypothesis(std::vector<Hypothesis>* hyps, const TwoViewParams& params, TwoViewResult* res) {
+// The hypothesis with the most good points, if it is unambiguous, triangulates enough and has enough parallax
+// (allow_few: an essential-matrix motion may pass with determined_parallax_points, see TwoViewParams).
+const Hypothesis* selectHypothesis(std::vector<Hypothesis>* hyps, const TwoViewParams& params, bool allow_few,
+                                   TwoViewResult* res) {
   if (hyps->empty()) {
     res->reason = res->model + ": no decomposition";
     return nullptr;
@@ -252,7 +254,7 @@ const Hypothesis* selectHypothesis(std::vector<Hypothesis>* hyps, const TwoViewP
                       best.median_parallax_deg >= (homography ? params.min_parallax_deg : params.min_median_parallax_deg);
   // Forward motion past far structure: only the few near points have parallax. Accepted when the translation is
   // determined (the ambiguity check, run after the refinement, refuses it otherwise).
-  res->few_parallax_points = !strict && !homography && params.determined_parallax_points > 0 &&
+  res->few_parallax_points = allow_few && !strict && !homography && params.determined_parallax_points > 0 &&
                              params.ambiguity_max_chi2 > 0.0 && best.few_parallax_deg >= params.min_parallax_deg;
   if (res->few_parallax_points) res->parallax_deg = best.few_parallax_deg;
   if (!strict && !res->few_parallax_points) {
@@ -402,7 +404,7 @@ TwoViewResult initializeTwoView(const std::vector<Eigen::Vector3d>& b1, const st
   const bool use_h = models.have_h && (!models.have_e || rh > params.homography_ratio);
   res.model = use_h ? "homography" : "essential";
   std::vector<Hypothesis> hyps = poseHypotheses(models, use_h, m, focal, params);
-  const Hypothesis* best = selectHypothesis(&hyps, params, &res);
+  const Hypothesis* best = selectHypothesis(&hyps, params, false, &res);
   // Both models explain the matches about equally (small motion: R_H ~ 0.5) and the chosen one fails (e.g. an
   // ambiguous homography decomposition): the other model gets the same checks.
   std::vector<Hypothesis> other_hyps;
@@ -411,12 +413,22 @@ TwoViewResult initializeTwoView(const std::vector<Eigen::Vector3d>& b1, const st
     TwoViewResult other = res;
     other.model = use_h ? "essential" : "homography";
     other_hyps = poseHypotheses(models, !use_h, m, focal, params);
-    best = selectHypothesis(&other_hyps, params, &other);
+    best = selectHypothesis(&other_hyps, params, false, &other);
     if (best) {
       res = other;
     } else {
       res.reason += "; " + other.reason;
     }
+  }
+  // Neither model passes the strict parallax test: the essential matrix's motion with few parallax-rich points
+  // (forward driving past far structure), if its translation turns out determined.
+  if (!best && models.have_e && params.determined_parallax_points > 0 && params.ambiguity_max_chi2 > 0.0) {
+    std::vector<Hypothesis>* e_hyps = !use_h ? &hyps : &other_hyps;
+    if (use_h && other_hyps.empty()) other_hyps = poseHypotheses(models, false, m, focal, params);
+    TwoViewResult few = res;
+    few.model = "essential";
+    best = selectHypothesis(e_hyps, params, true, &few);
+    if (best) res = few;
   }
   if (best && params.max_rotation_inlier_ratio < 1.0) {
     const std::vector<char>& inl = res.model == "homography" ? models.inliers_h : models.inliers_e;
