@@ -6,7 +6,6 @@
 #include "iraf_vo/tracking/multiview.h"
 #include "iraf_vo/tracking/two_view_ambiguity.h"
 
-#include <Eigen/SVD>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 
@@ -322,32 +321,6 @@ void refineTwoView(const Hypothesis& best, const ForwardMatches& m, double focal
   }
 }
 
-// How many of the chosen model's inliers a pure rotation explains (the rotation fitted to them by Kabsch, then
-// refitted to its own inliers; residual = angle between R b1 and b2 in pixels via focal, gate 2 threshold_px).
-// A camera that only turns or stands still: all of them; a translation with parallax: the near points are not.
-int inliersOfPureRotation(const ForwardMatches& m, const std::vector<char>& model_inliers, double focal,
-                          double threshold_px) {
-  std::vector<char> use = model_inliers;
-  int n = 0;
-  for (int round = 0; round < 3; ++round) {
-    Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
-    for (size_t i = 0; i < m.b1.size(); ++i)
-      if (use[i]) M += m.b2[i].normalized() * m.b1[i].normalized().transpose();
-    Eigen::JacobiSVD<Eigen::Matrix3d> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
-    Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
-    D(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1.0 : 1.0;
-    const Eigen::Matrix3d R = svd.matrixU() * D * svd.matrixV().transpose();  // b2 ~ R b1
-    n = 0;
-    for (size_t i = 0; i < m.b1.size(); ++i) {
-      const double e = std::acos(std::clamp((R * m.b1[i].normalized()).dot(m.b2[i].normalized()), -1.0, 1.0)) * focal;
-      use[i] = model_inliers[i] && e < 2.0 * threshold_px;
-      n += use[i];
-    }
-    if (n < 3) break;
-  }
-  return n;
-}
-
 // A planar scene leaves E undetermined (any translation fits), so only essential-matrix motions are checked.
 void checkTranslationAmbiguity(const ForwardMatches& m, double focal, const TwoViewParams& params,
                                TwoViewResult* res) {
@@ -433,7 +406,7 @@ TwoViewResult initializeTwoView(const std::vector<Eigen::Vector3d>& b1, const st
   if (best && params.max_rotation_inlier_ratio < 1.0) {
     const std::vector<char>& inl = res.model == "homography" ? models.inliers_h : models.inliers_e;
     const int n_model = static_cast<int>(std::count(inl.begin(), inl.end(), 1));
-    const int n_rot = inliersOfPureRotation(m, inl, focal, params.threshold_px);
+    const int n_rot = inliersOfPureRotation(m.b1, m.b2, inl, focal, params.threshold_px);
     if (n_rot >= params.max_rotation_inlier_ratio * n_model) {
       res.reason = res.model + ": no translation (a pure rotation explains " + std::to_string(n_rot) + " of its " +
                    std::to_string(n_model) + " inliers)";
