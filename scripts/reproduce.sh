@@ -28,6 +28,7 @@
 # Scenarios (other cameras and motions, iraf_vo_simulate --motion; run in --scenario-modes, default iraf only;
 # each motion's default length unless --scenario-frames; photometric --scenario-preset, default clean):
 #   drive                  street, KITTI-like 1241x376 pinhole, 10 Hz, ~1 m/frame, gentle turns (100 frames)
+#   highway                open road, structure mostly 15-300 m away, same camera and speed, wide curves (100 frames)
 #   slider                 pure sideways translation past objects at 0.3-1 m, 240x180, 25 Hz (100 frames)
 #   handheld_fast          room, up to 3 deg/frame with motion blur, EuRoC pinhole 752x480, 20 Hz (300 frames)
 #   handheld_fast_fisheye  the same with the TUM-VI Kannala-Brandt 512x512 camera
@@ -65,7 +66,7 @@ do_stereo=1
 do_sim=1
 do_euroc=1
 threaded=0
-scenarios="drive slider handheld_fast handheld_fast_fisheye static_start static_start_fisheye fisheye"
+scenarios="drive highway slider handheld_fast handheld_fast_fisheye static_start static_start_fisheye fisheye"
 scenario_modes="iraf"
 scenario_frames=0
 scenario_preset=clean
@@ -123,7 +124,7 @@ for m in $modes $scenario_modes; do
   case "$m" in baseline|he|clahe|enhance|adaptive|culling|iraf) ;; *) die "--modes: unknown mode '$m'" ;; esac
 done
 for sc in $scenarios; do
-  case "$sc" in drive|slider|handheld_fast|handheld_fast_fisheye|static_start|static_start_fisheye|fisheye) ;;
+  case "$sc" in drive|highway|slider|handheld_fast|handheld_fast_fisheye|static_start|static_start_fisheye|fisheye) ;;
     *) die "--scenarios: unknown scenario '$sc'" ;; esac
 done
 [[ "$scenario_frames" =~ ^[0-9]+$ && ( "$scenario_frames" == 0 || "$scenario_frames" -ge 30 ) ]] \
@@ -237,7 +238,7 @@ sf=()
 sp_tag="" && [[ "$scenario_preset" != clean ]] && sp_tag="_$scenario_preset"
 for sc in $scenarios; do
   case "$sc" in
-    drive|slider|handheld_fast) simulate "sim_$sc$sp_tag" --motion "$sc" "${sf[@]}" ;;
+    drive|highway|slider|handheld_fast) simulate "sim_$sc$sp_tag" --motion "$sc" "${sf[@]}" ;;
     handheld_fast_fisheye) simulate "sim_$sc$sp_tag" --motion handheld_fast --camera fisheye "${sf[@]}" ;;
     static_start)
       ssf=$scenario_frames && [[ $ssf == 0 ]] && ssf=300

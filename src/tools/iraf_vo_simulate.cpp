@@ -59,7 +59,9 @@ int main(int argc, char** argv) {
       "  slider         pure sideways translation (0.25 m/s, 1 m travel, back and forth) past table objects at\n"
       "                 0.3-1 m and a wall at 4 m; davis240 (240x180, f 200, k1 -0.1), 25 Hz, 100 frames, blur 3 x 10 ms\n"
       "  handheld_fast  the room loop with fast hand rotations (<= 3 deg/frame); pinhole or --camera fisheye,\n"
-      "                 20 Hz, 300 frames, motion blur 4 x 8 ms");
+      "                 20 Hz, 300 frames, motion blur 4 x 8 ms\n"
+      "  highway        open road (low-contrast surface, posts and signs 8-10 m out, trees, woods 40-90 m, buildings\n"
+      "                 90-220 m), 10 m/s with wide curves; kitti, 10 Hz (1 m/frame), 100 frames, blur 3 x 2 ms");
   cli.option("--preset", "P", &preset, "light profile: " + iraf_vo::lightProfileNames());
   cli.option("--out", "DIR", &out_dir, "output ASL folder");
   cli.option("--motion", "M", &motion_name, iraf_vo::motionKindNames() + " (default room)");
