@@ -135,6 +135,11 @@ TEST(LaunchFiles, EurocWithACompressedBag) {
       << "no static TF base_link -> cam0 from base_from_camera_file";
   ros::WallDuration(2.0).sleep();
   launch.stop();
+  // Ctrl-C: the tracker's summary and the final trajectory write reach the console log.
+  const std::string console = readFile(log);
+  EXPECT_NE(console.find("tracker: summary: "), std::string::npos) << "no shutdown summary; " << console;
+  EXPECT_NE(console.find("trajectory written to " + traj + " ("), std::string::npos)
+      << "no 'trajectory written to " << traj << "'; " << console;
   iraf_vo::Trajectory t;
   std::string err;
   EXPECT_TRUE(iraf_vo::readTumTrajectory(traj, &t, &err)) << err;
