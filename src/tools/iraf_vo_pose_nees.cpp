@@ -10,7 +10,7 @@
 // extrapolation of the two output poses before it (6, zero without both); |step| of the centre, |step| of the
 // rotation, keyframe flags of k-1 and k.
 #include <iraf_vo/camera/camera_loader.h>
-#include <iraf_vo/eval/trajectory_eval.h>
+#include <iraf_vo/eval/pose_nees.h>
 #include <iraf_vo/io/image_folder.h>
 #include <iraf_vo/pipeline/frame_source.h>
 #include <iraf_vo/pipeline/offline_pipeline.h>
@@ -40,6 +40,37 @@ struct Sample {
 Eigen::Vector3d logRotation(const Eigen::Matrix3d& R) {
   const Eigen::AngleAxisd aa(R);
   return aa.angle() * aa.axis();
+}
+
+/// One row per frame pair (see the header comment).
+bool writeCsv(const std::string& path, const std::vector<Sample>& samples,
+              const std::vector<iraf_vo::FrameToFrameError>& errors) {
+  FILE* csv = std::fopen(path.c_str(), "w");
+  if (!csv) return false;
+  for (const iraf_vo::FrameToFrameError& f : errors) {
+    const size_t k = f.index;
+    std::fprintf(csv, "%.6f", samples[k].stamp);
+    for (int i = 0; i < 6; ++i) std::fprintf(csv, ",%.9g", f.error[i]);
+    for (size_t j : {k - 1, k}) {
+      std::fprintf(csv, ",%.6g,%d,%d", samples[j].median_chi2, samples[j].inliers, int(samples[j].used_pnp));
+      for (int i = 0; i < 36; ++i) std::fprintf(csv, ",%.9g", samples[j].C(i / 6, i % 6));
+    }
+    for (size_t j : {k - 1, k}) {
+      Eigen::Matrix<double, 6, 1> d = Eigen::Matrix<double, 6, 1>::Zero();
+      if (j >= 2 && samples[j - 2].map == samples[j].map) {
+        const Eigen::Isometry3d vel = samples[j - 1].T.inverse() * samples[j - 2].T;  // T_cw[j-1] T_cw[j-2]^-1
+        const Eigen::Isometry3d pred = (vel * samples[j - 1].T.inverse()).inverse();
+        d.head<3>() = samples[j].T.translation() - pred.translation();
+        d.tail<3>() = logRotation(samples[j].T.rotation() * pred.rotation().transpose());
+      }
+      for (int i = 0; i < 6; ++i) std::fprintf(csv, ",%.9g", d[i]);
+    }
+    const Eigen::Vector3d step = samples[k].T.translation() - samples[k - 1].T.translation();
+    std::fprintf(csv, ",%.9g,%.9g,%d,%d\n", step.norm(),
+                 logRotation(samples[k].T.rotation() * samples[k - 1].T.rotation().transpose()).norm(),
+                 int(samples[k - 1].keyframe), int(samples[k].keyframe));
+  }
+  return std::fclose(csv) == 0;
 }
 
 double mean(const std::vector<double>& v) {
@@ -93,7 +124,6 @@ int main(int argc, char** argv) {
   opts.height = cam->height();
   iraf_vo::Tracker tracker(cam, params.tracker);
   std::vector<Sample> samples;
-  iraf_vo::Trajectory est;
   long map = 0;
   {
     iraf_vo::OfflinePipeline pipeline(&source, params.enhance, params.features, opts);
@@ -104,56 +134,22 @@ int main(int argc, char** argv) {
       if (r.initialized_now) ++map;
       if (r.state != iraf_vo::TrackingState::kTracking) continue;
       samples.push_back({it.frame.stamp, r.T_w_c, r.covariance, map, r.median_chi2, r.inliers, r.used_pnp, r.is_keyframe});
-      est.push_back(it.frame.stamp, r.T_w_c);
     }
   }
-  iraf_vo::EvalParams ep;
+  std::vector<iraf_vo::CovariancePose> poses;
+  for (const Sample& x : samples) poses.push_back({x.stamp, x.T, x.C, x.map});
+  std::vector<iraf_vo::FrameToFrameError> errors;
   iraf_vo::EvalResult res;
-  if (!iraf_vo::evaluateTrajectory(gt, est, ep, &res, &err)) return std::fprintf(stderr, "iraf_vo_pose_nees: %s\n", err.c_str()), 1;
-  const iraf_vo::Sim3 to_est = res.alignment.inverse();  // GT -> estimate frame (its scale)
-  const auto pairs = iraf_vo::associate(gt.stamps, est.stamps, ep.max_dt);
-  std::vector<long> gt_of(est.size(), -1);
-  for (const auto& p : pairs) gt_of[p.second] = static_cast<long>(p.first);
+  if (!iraf_vo::frameToFrameNees(gt, poses, &errors, &err, &res))
+    return std::fprintf(stderr, "iraf_vo_pose_nees: %s\n", err.c_str()), 1;
   std::vector<double> nees6, nees_t, nees_r;
-  FILE* csv = csv_path.empty() ? nullptr : std::fopen(csv_path.c_str(), "w");
-  if (!csv_path.empty() && !csv) return std::fprintf(stderr, "iraf_vo_pose_nees: --csv %s: cannot write\n", csv_path.c_str()), 1;
-  for (size_t k = 1; k < samples.size(); ++k) {
-    if (samples[k].map != samples[k - 1].map || gt_of[k] < 0 || gt_of[k - 1] < 0) continue;
-    const Eigen::Isometry3d G0 = to_est.apply(gt.poses[gt_of[k - 1]]), G1 = to_est.apply(gt.poses[gt_of[k]]);
-    const Eigen::Isometry3d& T0 = samples[k - 1].T;
-    const Eigen::Isometry3d& T1 = samples[k].T;
-    Eigen::Matrix<double, 6, 1> e;
-    e.head<3>() = (T1.translation() - T0.translation()) - (G1.translation() - G0.translation());
-    e.tail<3>() = logRotation((T1.rotation() * T0.rotation().transpose()) *
-                              (G1.rotation() * G0.rotation().transpose()).transpose());
-    const Eigen::Matrix<double, 6, 6> C = samples[k].C + samples[k - 1].C;
-    nees6.push_back(e.dot(C.ldlt().solve(e)));
-    if (csv) {
-      std::fprintf(csv, "%.6f", samples[k].stamp);
-      for (int i = 0; i < 6; ++i) std::fprintf(csv, ",%.9g", e[i]);
-      for (size_t j : {k - 1, k}) {
-        std::fprintf(csv, ",%.6g,%d,%d", samples[j].median_chi2, samples[j].inliers, int(samples[j].used_pnp));
-        for (int i = 0; i < 36; ++i) std::fprintf(csv, ",%.9g", samples[j].C(i / 6, i % 6));
-      }
-      // deviation of each pose from the constant-velocity prediction out of the two before it (same map)
-      for (size_t j : {k - 1, k}) {
-        Eigen::Matrix<double, 6, 1> d = Eigen::Matrix<double, 6, 1>::Zero();
-        if (j >= 2 && samples[j - 2].map == samples[j].map) {
-          const Eigen::Isometry3d vel = samples[j - 1].T.inverse() * samples[j - 2].T;  // T_cw[j-1] T_cw[j-2]^-1
-          const Eigen::Isometry3d pred = (vel * samples[j - 1].T.inverse()).inverse();
-          d.head<3>() = samples[j].T.translation() - pred.translation();
-          d.tail<3>() = logRotation(samples[j].T.rotation() * pred.rotation().transpose());
-        }
-        for (int i = 0; i < 6; ++i) std::fprintf(csv, ",%.9g", d[i]);
-      }
-      const Eigen::Vector3d step = T1.translation() - T0.translation();
-      std::fprintf(csv, ",%.9g,%.9g,%d,%d\n", step.norm(), logRotation(T1.rotation() * T0.rotation().transpose()).norm(),
-                   int(samples[k - 1].keyframe), int(samples[k].keyframe));
-    }
-    nees_t.push_back(e.head<3>().dot(C.topLeftCorner<3, 3>().ldlt().solve(e.head<3>())));
-    nees_r.push_back(e.tail<3>().dot(C.bottomRightCorner<3, 3>().ldlt().solve(e.tail<3>())));
+  for (const iraf_vo::FrameToFrameError& f : errors) {
+    nees6.push_back(f.nees);
+    nees_t.push_back(f.nees_position);
+    nees_r.push_back(f.nees_rotation);
   }
-  if (csv) std::fclose(csv);
+  if (!csv_path.empty() && !writeCsv(csv_path, samples, errors))
+    return std::fprintf(stderr, "iraf_vo_pose_nees: --csv %s: cannot write\n", csv_path.c_str()), 1;
   std::printf("%s: %zu tracked, %zu frame pairs, ATE %.4f (scale %.3f)\n", dataset.c_str(), samples.size(),
               nees6.size(), res.ate.rmse, res.scale);
   std::printf("NEES 6-dof mean %.2f median %.2f (dof 6) -> factor %.2f\n", mean(nees6), median(nees6), mean(nees6) / 6.0);

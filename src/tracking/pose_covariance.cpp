@@ -58,8 +58,8 @@ Eigen::Matrix<double, 6, 6> calibratedPoseCovariance(const Eigen::Matrix<double,
                                                      const Eigen::Matrix<double, 6, 1>& deviation,
                                                      const PoseCovarianceCalibration& calibration) {
   constexpr double kMedianChi2TwoDof = 1.386;  // 2 ln 2
+  if (!std::isfinite(median_chi2) || !deviation.allFinite()) return refinement_covariance;
   const double variance_factor = std::max(calibration.variance_factor_floor, median_chi2 / kMedianChi2TwoDof);
-  if (!std::isfinite(variance_factor) || !deviation.allFinite()) return refinement_covariance;
   return variance_factor * refinement_covariance + calibration.prediction_weight * deviation * deviation.transpose();
 }
 
