@@ -6,7 +6,8 @@
 //      `rosservice call /tracker/save_trajectory "path: ..."`; after SIGINT (Ctrl-C) the console's summary and
 //      "trajectory written to" lines, the trajectory file and the recorded bag.
 //   2. tumvi.launch bag:=... (fisheye): odometry and epoch 1.
-//   3. live.launch camera:=/camera transport:=raw camera_file:=... fed by `rosbag play` remapped to /camera.
+//   3. live.launch camera:=/camera transport:=raw camera_file:=... base_frame:=base_link camera_frame:=cam0
+//      publish_camera_tf:=true camera_xyz_ypr:=... fed by `rosbag play`: odometry of base_link, base_link -> cam0.
 #include <gtest/gtest.h>
 
 #include <nav_msgs/Odometry.h>
@@ -180,11 +181,21 @@ TEST(LaunchFiles, LiveCameraFedByABag) {
   ASSERT_FALSE(raw_bag.empty());
   Watch w;
   const std::string log = g_dir + "/live.log";
+  // The README's z-up robot: odom -> base_link, base_link -> cam0 published by the launch file.
   Child launch("roslaunch iraf_vo live.launch camera:=/camera transport:=raw camera_file:=" + kConfig +
-               "euroc_cam0.yaml", log);
+               "euroc_cam0.yaml base_frame:=base_link camera_frame:=cam0 publish_camera_tf:=true "
+               "camera_xyz_ypr:=\"0.1 0 0.3 -1.5707963 0 -1.5707963\"", log);
+  tf2_ros::Buffer tf;
+  tf2_ros::TransformListener listener(tf);
   ros::WallDuration(3.0).sleep();  // the nodelets subscribe
   Child player("rosbag play -q " + raw_bag, g_dir + "/live_play.log");
   EXPECT_TRUE(waitFor([&] { return w.odomCount() >= 20; }, 90.0)) << "no odometry; " << readFile(log);
+  {
+    std::lock_guard<std::mutex> l(w.m);
+    if (!w.odom.empty()) EXPECT_EQ(w.odom.back()->child_frame_id, "base_link");
+  }
+  EXPECT_TRUE(waitFor([&] { return tf.canTransform("base_link", "cam0", ros::Time(0)); }, 5.0))
+      << "no base_link -> cam0 from publish_camera_tf";
 }
 
 int main(int argc, char** argv) {
