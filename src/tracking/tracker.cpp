@@ -264,6 +264,8 @@ void Tracker::Impl::onTracked(const Frame& cur, TrackResult* res, bool is_keyfra
   res->state = TrackingState::kTracking;
   res->is_keyframe = is_keyframe;
   res->T_w_c = cur.T_c_w.inverse();
+  if (res->initialized_now) covariance_calibrator.start(cur.T_c_w, cur.index);
+  else res->covariance = covariance_calibrator.calibrate(res->covariance, res->median_chi2, cur.T_c_w, cur.index);
   res->keypoint_inlier.assign(cur.point_id.size(), 0);
   for (size_t i = 0; i < cur.point_id.size(); ++i) res->keypoint_inlier[i] = cur.point_id[i] >= 0;
   last_good_T_w_c = res->T_w_c;

@@ -10,6 +10,7 @@
 #include "iraf_vo/tracking/local_mapper.h"
 #include "iraf_vo/tracking/map.h"
 #include "iraf_vo/tracking/map_initializer.h"
+#include "iraf_vo/tracking/pose_covariance.h"
 #include "iraf_vo/tracking/pose_tracker.h"
 #include "iraf_vo/tracking/relocalizer.h"
 #include "iraf_vo/tracking/signal_check.h"
@@ -45,6 +46,7 @@ struct Tracker::Impl {
   Eigen::Isometry3d T_last_rel_kf = Eigen::Isometry3d::Identity();  // T_last_c_w * T_kf_c_w^-1
   Eigen::Isometry3d velocity = Eigen::Isometry3d::Identity();
   bool have_velocity = false;
+  PoseCovarianceCalibrator covariance_calibrator;  // of the poses output as TRACKING
   long last_kf_id = -1;
   int frames_since_kf = 0;
   int consecutive_lost = 0;
