@@ -1,4 +1,4 @@
-// iraf_vo_run --dataset DIR_OR_BAG [--topic T] [--camera sensor.yaml] --out traj.txt
+// iraf_vo_run --dataset DIR_OR_BAG [--topic T [--right-topic T]] [--camera sensor.yaml] --out traj.txt
 //             [--mode iraf|baseline|enhance|adaptive|culling|he|clahe] [--gt GT] [--stats stats.json]
 //             [--config params.yaml] [--first N] [--frames N] [--set section.key=value ...] [--quiet]
 // Offline monocular VO (no roscore): iraf_vo::OfflinePipeline (reader thread -> front-end thread) feeds the tracker
@@ -26,7 +26,7 @@
 namespace {
 
 struct Args {
-  std::string dataset, topic, camera_path, out, mode = "iraf", gt_path, stats_path, frame_log_path, out_final;
+  std::string dataset, topic, right_topic, camera_path, out, mode = "iraf", gt_path, stats_path, frame_log_path, out_final;
   int first = 0, max_frames = -1;
   bool quiet = false, no_resolution_rule = false;
 };
@@ -39,6 +39,8 @@ int parseArgs(int argc, char** argv, Args* a, iraf_vo::PipelineParams* p) {
   cli.option("--dataset", "DIR_OR_BAG", &a->dataset,
              "ASL folder (DIR/mav0/cam0/data.csv) or a rosbag (.bag, needs --topic)");
   cli.option("--topic", "T", &a->topic, "image topic of a bag");
+  cli.option("--right-topic", "T", &a->right_topic,
+             "bag of a stereo camera: the right image topic (paired with --topic by stamp, 5 ms)");
   cli.option("--camera", "sensor.yaml", &a->camera_path,
              "camera yaml (default: the ASL folder's mav0/cam0/sensor.yaml)");
   cli.option("--out", "traj.txt", &a->out, "TUM trajectory of every tracked frame, as published at each frame");
@@ -107,7 +109,10 @@ int main(int argc, char** argv) {
                           a.dataset.c_str()),
              2;
     // The bag reader (libiraf_vo_ros.so) is loaded only here: runs on ASL folders never load the ROS libraries.
-    if (!(source = iraf_vo::openBagFrameSource(a.dataset, a.topic, &err)))
+    iraf_vo::BagSourceOptions bag_options;
+    bag_options.topic = a.topic;
+    bag_options.right_topic = a.right_topic;
+    if (!(source = iraf_vo::openBagFrameSource(a.dataset, bag_options, &err)))
       return std::fprintf(stderr, "iraf_vo_run: --dataset %s: %s\n", a.dataset.c_str(), err.c_str()), 1;
     if (!source->notice().empty()) std::fprintf(stderr, "iraf_vo_run: %s\n", source->notice().c_str());
   }
