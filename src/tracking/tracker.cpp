@@ -34,6 +34,7 @@ const char* toString(TrackingState s) {
 
 struct Tracker::Impl {
   CameraModelPtr cam;
+  StereoRig rig;  // rig.right == nullptr: monocular
   const TrackerParams p;
   Map map;
   LocalMapper mapper;
@@ -63,8 +64,8 @@ struct Tracker::Impl {
   double last_median_depth = 1.0;
   bool last_dark = false;  // the previous frame was too dark
 
-  Impl(CameraModelPtr c, const TrackerParams& params)
-      : cam(std::move(c)), p(params), mapper(*cam, p, &map), initializer(*cam, p), pose_tracker(*cam, p), health(p), signal(p), relocalizer(*cam, p) {}
+  Impl(CameraModelPtr c, const TrackerParams& params, const StereoRig& stereo_rig = StereoRig())
+      : cam(std::move(c)), rig(stereo_rig), p(params), mapper(*cam, p, &map), initializer(*cam, p), pose_tracker(*cam, p), health(p), signal(p), relocalizer(*cam, p) {}
 
   template <class F>
   void updateStats(F&& f) {
@@ -379,11 +380,26 @@ Tracker::Tracker(CameraModelPtr camera, const TrackerParams& params) {
   const std::string err = validate(params);
   if (!err.empty()) throw std::invalid_argument("Tracker: " + err);
   impl_ = std::make_unique<Impl>(std::move(camera), params);
+  impl_->rig.left = impl_->cam;
+}
+
+Tracker::Tracker(const StereoRig& rig, const TrackerParams& params) {
+  std::string err = validate(rig);
+  if (!err.empty()) throw std::invalid_argument("Tracker: " + err);
+  err = validate(params);
+  if (!err.empty()) throw std::invalid_argument("Tracker: " + err);
+  impl_ = std::make_unique<Impl>(rig.left, params, rig);
 }
 
 Tracker::~Tracker() = default;
 
 TrackResult Tracker::track(const FeatureFrame& frame) { return impl_->track(frame); }
+TrackResult Tracker::track(const FeatureFrame& left, const FeatureFrame* right) {
+  (void)right;  // the right image is not used yet: tracked with the left camera
+  return impl_->track(left);
+}
+bool Tracker::isStereo() const { return impl_->rig.right != nullptr; }
+const StereoRig& Tracker::rig() const { return impl_->rig; }
 std::vector<Eigen::Vector3d> Tracker::mapPoints() const { return impl_->map.pointPositions(); }
 std::vector<KeyframePose> Tracker::keyframePoses() const { return impl_->map.keyframePoses(); }
 
