@@ -117,7 +117,10 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     sub_ = nh.subscribe("features", queue_size, &TrackerNodelet::featuresCb, this);
     if (stereo_)
       stereo_input_.start(nh, queue_size, pairing, [this](const FeaturesConstPtr& l, const FeaturesConstPtr& r) { track(l, r); },
-                          [this](const SessionMessage& m) { log(m); },
+                          [this](const SessionMessage& m) {
+                            std::lock_guard<std::mutex> lock(mutex_);
+                            log(m);
+                          },
                           [this](const FeaturesConstPtr&) {
                             std::lock_guard<std::mutex> wlock(watchdog_mutex_);
                             for (const SessionMessage& m : right_watchdog_.onFrame(ros::WallTime::now().toSec()))
@@ -135,12 +138,14 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
       {
         std::lock_guard<std::mutex> lock(watchdog_mutex_);
         messages = watchdog_.check(ros::WallTime::now().toSec());
-        // The right camera: its silence is reported (WARN, then ERROR); the left frames go on alone meanwhile.
-        for (const SessionMessage& m : right_watchdog_.check(ros::WallTime::now().toSec()))
-          if (m.level == SessionMessage::Level::kError) messages.push_back(m);
+        // The right camera's silence: a warning (the left frames go on alone meanwhile).
+        for (SessionMessage m : right_watchdog_.check(ros::WallTime::now().toSec()))
+          if (m.level == SessionMessage::Level::kError) m.level = SessionMessage::Level::kWarn, messages.push_back(m);
       }
-      for (const SessionMessage& m : messages)
+      for (const SessionMessage& m : messages) {
         if (m.level == SessionMessage::Level::kError) NODELET_ERROR("tracker: %s", m.text.c_str());
+        if (m.level == SessionMessage::Level::kWarn) NODELET_WARN("tracker: %s (tracking with the left camera)", m.text.c_str());
+      }
     });
   }
 
@@ -191,9 +196,9 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     const HealthReport::Level l = watchdog_.level(now, &silence);
     if (l >= r.level && l != HealthReport::kOk) r.level = l, r.summary = silence;
     if (stereo_) {
-      const HealthReport::Level rl = right_watchdog_.level(now, &silence);
-      if (rl != HealthReport::kOk && rl >= r.level)
-        r.level = rl, r.summary = silence + " (tracking with the left camera only)";
+      // A silent right camera is a WARN: the odometry goes on with the left one.
+      if (right_watchdog_.level(now, &silence) != HealthReport::kOk && r.level == HealthReport::kOk)
+        r.level = HealthReport::kWarn, r.summary = silence + " (tracking with the left camera only)";
     }
     fillDiagnostics(r, d);
     if (stereo_) {

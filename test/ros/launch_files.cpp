@@ -20,10 +20,12 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "common/child_process.h"
 #include "common/wait_for.h"
 #include "iraf_vo/TrackingEvent.h"
 #include "iraf_vo/io/trajectory.h"
 
+using iraf_vo::test::Child;
 using iraf_vo::test::waitFor;
 
 namespace {
@@ -40,39 +42,6 @@ std::string readFile(const std::string& path) {
   s << f.rdbuf();
   return s.str();
 }
-
-/// A process this test starts (its own process group), stopped with SIGINT like Ctrl-C.
-class Child {
- public:
-  Child(const std::string& cmd, const std::string& log) {
-    pid_ = fork();
-    if (pid_ == 0) {
-      setpgid(0, 0);
-      execl("/bin/sh", "sh", "-c", ("exec " + cmd + " > " + log + " 2>&1").c_str(), static_cast<char*>(nullptr));
-      _exit(127);
-    }
-  }
-  ~Child() { stop(); }
-  /// SIGINT, then up to `seconds` for a clean exit, then SIGKILL of the group.
-  void stop(double seconds = 30.0) {
-    if (pid_ <= 0) return;
-    kill(pid_, SIGINT);
-    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
-    int status = 0;
-    while (waitpid(pid_, &status, WNOHANG) == 0) {
-      if (ros::WallTime::now() > end) {
-        kill(-pid_, SIGKILL);
-        waitpid(pid_, &status, 0);
-        break;
-      }
-      ros::WallDuration(0.1).sleep();
-    }
-    pid_ = -1;
-  }
-
- private:
-  pid_t pid_ = -1;
-};
 
 struct Watch {
   ros::NodeHandle nh;
