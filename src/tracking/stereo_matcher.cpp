@@ -26,6 +26,12 @@ std::vector<StereoMatch> StereoMatcher::match(const Frame& left, const Frame& ri
   const Eigen::Vector3d t_rl = rig_.T_r_l.translation();
   const double min_depth = p_.stereo_min_depth;
 
+  // The right bearings as rows (invalid ones far off every epipolar plane): one matrix-vector product per left
+  // keypoint gives every right bearing's distance from its epipolar plane.
+  Eigen::Matrix<double, Eigen::Dynamic, 3> B(right.size(), 3);
+  for (size_t j = 0; j < right.size(); ++j)
+    B.row(static_cast<Eigen::Index>(j)) = right.valid[j] ? right.bearings[j].transpose() : Eigen::RowVector3d(1e3, 1e3, 1e3);
+  Eigen::VectorXd off_plane(right.size());
   // Per right keypoint: its best left partner (distance, left index, right index).
   std::vector<int> right_best(right.size(), max_dist + 1), right_partner(right.size(), -1);
   std::vector<int> left_choice(left.size(), -1);
@@ -39,20 +45,22 @@ std::vector<StereoMatch> StereoMatcher::match(const Frame& left, const Frame& ri
     // The epipolar arc of the depth range: directions of the point at min and max depth seen from the right.
     const Eigen::Vector3d d_near = (R_rl * (min_depth * bl) + t_rl).normalized();
     const Eigen::Vector3d d_far = (R_rl * (max_depth_ * bl) + t_rl).normalized();
-    const double arc = std::acos(std::min(1.0, d_near.dot(d_far)));
+    // Orientation of the arc from the near to the far end in the plane (sines of in-plane angles).
+    const Eigen::Vector3d axis = d_near.cross(d_far).dot(n) >= 0.0 ? n : Eigen::Vector3d(-n);
     const int oct = left.keypoints[i].octave;
     const double sigma = left.sigma(oct);
     const double max_angle = p_.stereo_epipolar_px * sigma / f_r;
     const uint8_t* dl = left.descriptors.ptr<uint8_t>(static_cast<int>(i));
     int best = std::numeric_limits<int>::max(), second = std::numeric_limits<int>::max(), best_j = -1;
+    off_plane.noalias() = B * n;
     for (size_t j = 0; j < right.size(); ++j) {
-      if (!right.valid[j] || std::abs(right.keypoints[j].octave - oct) > 1) continue;
+      if (std::abs(off_plane(static_cast<Eigen::Index>(j))) > max_angle) continue;
+      if (std::abs(right.keypoints[j].octave - oct) > 1) continue;
       const Eigen::Vector3d& br = right.bearings[j];
-      if (std::abs(n.dot(br)) > max_angle) continue;
-      // Between the near and far ends of the arc (within the tolerance).
-      const double a_near = std::acos(std::min(1.0, br.dot(d_near)));
-      const double a_far = std::acos(std::min(1.0, br.dot(d_far)));
-      if (a_near + a_far > arc + 2.0 * max_angle) continue;
+      // Between the near and far ends of the arc (within the tolerance), in front of the right camera.
+      if (br.dot(d_near) + br.dot(d_far) < 0.0 || axis.dot(d_near.cross(br)) < -max_angle ||
+          axis.dot(br.cross(d_far)) < -max_angle)
+        continue;
       const int d = hammingDistance(dl, right.descriptors.ptr<uint8_t>(static_cast<int>(j)));
       if (d < best) {
         second = best;
@@ -92,6 +100,34 @@ std::vector<StereoMatch> StereoMatcher::match(const Frame& left, const Frame& ri
     m.right = j;
     m.p_l = p_l;
     out.push_back(m);
+  }
+  return out;
+}
+
+bool StereoMatcher::matchRight(Frame* left, const FeatureFrame& right, std::vector<StereoMatch>* matches) const {
+  matches->clear();
+  left->right_obs.clear();
+  Frame rf;
+  std::string err;
+  if (right.keypoints.empty() || !Frame::fromFeatures(right, *rig_.right, left->index, &rf, &err)) return false;
+  *matches = match(*left, rf);
+  left->right_obs.assign(left->size(), Eigen::Vector3f::Zero());
+  for (const StereoMatch& m : *matches) {
+    const cv::KeyPoint& kp = rf.keypoints[m.right];
+    left->right_obs[m.left] = Eigen::Vector3f(kp.pt.x, kp.pt.y, static_cast<float>(rf.sigma(kp.octave)));
+  }
+  return true;
+}
+
+std::vector<StereoMapPoint> stereoMapPoints(const std::vector<StereoMatch>& matches, const Frame& left, bool only_new) {
+  std::vector<StereoMapPoint> out;
+  const Eigen::Isometry3d T_w_c = left.T_c_w.inverse();
+  for (const StereoMatch& m : matches) {
+    if (only_new && left.point_id[m.left] >= 0) continue;
+    StereoMapPoint sp;
+    sp.kp = m.left;
+    sp.p_w = T_w_c * m.p_l;
+    out.push_back(sp);
   }
   return out;
 }

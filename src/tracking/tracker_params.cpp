@@ -96,7 +96,7 @@ const ParamTable<TrackerParams>& trackerParamTable() {
           doubleParam("stereo_min_depth", &P::stereo_min_depth, 0.0, 100.0,
                       "Stereo: points from one stereo frame closer than this are dropped [m]"),
           doubleParam("stereo_max_depth_baselines", &P::stereo_max_depth_baselines, 1.0, 1000.0,
-                      "Stereo: ... and farther than this many baselines (left to the triangulation over time)"),
+                      "Stereo: ... and farther than this many baselines (about where the disparity reaches the epipolar tolerance)"),
           intParam("stereo_init_min_points", &P::stereo_init_min_points, 8, 10000,
                    "Stereo: points the first (metric) map needs from one frame"),
           intParam("ba_window_size", &P::ba_window_size, 2, 100, "Keyframes optimized by the sliding-window BA"),

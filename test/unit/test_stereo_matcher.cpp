@@ -65,11 +65,12 @@ void checkSyntheticPair(CameraModelPtr cam) {
   EXPECT_GT(matches.size(), 0.7 * both) << cam->modelName() << ": " << matches.size() << " of " << both;
   EXPECT_GE(correct, static_cast<int>(0.98 * matches.size())) << cam->modelName();
   // 0.3 px noise per image, a 0.12 m baseline, points at 1-4.5 m: the depth error is ~0.42 px / disparity, ~2 %
-  // (f 450) or ~5 % (fisheye f 200) at the median depth, ~10-25 % at most (4.5 m at the fisheye's periphery).
+  // (f 450) or ~5 % (fisheye f 200) at the median depth, ~10-40 % at the far end (4.5 m at the fisheye's periphery:
+  // ~2 px of disparity).
   ASSERT_FALSE(rel_err.empty());
   std::sort(rel_err.begin(), rel_err.end());
   EXPECT_LT(rel_err[rel_err.size() / 2], 0.06) << cam->modelName();
-  EXPECT_LT(rel_err.back(), 0.3) << cam->modelName();
+  EXPECT_LT(rel_err[rel_err.size() * 95 / 100], 0.25) << cam->modelName();
   for (const StereoMatch& m : matches) EXPECT_LE(m.depth(), matcher.maxDepth());
 }
 
@@ -113,8 +114,6 @@ TEST(StereoMatcher, EurocFrameZero) {
   FrontEnd fe_l(ep, fp), fe_r(ep, fp);
   const FeatureFrame fl = fe_l.process(il, 0.0), fr = fe_r.process(ir, 0.0);
   TrackerParams p;
-  if (const char* e = std::getenv("STEREO_MAXB")) p.stereo_max_depth_baselines = std::atof(e);
-  if (const char* e = std::getenv("STEREO_EPI")) p.stereo_epipolar_px = std::atof(e);
   Frame left, right;
   ASSERT_TRUE(Frame::fromFeatures(fl, *rig.left, 0, &left, &err)) << err;
   ASSERT_TRUE(Frame::fromFeatures(fr, *rig.right, 0, &right, &err)) << err;
@@ -122,7 +121,7 @@ TEST(StereoMatcher, EurocFrameZero) {
   std::vector<double> depth;
   for (const StereoMatch& m : matches) depth.push_back(m.depth());
   std::sort(depth.begin(), depth.end());
-  ASSERT_GE(matches.size(), 100u) << "of " << left.size() << " / " << right.size() << " keypoints";
+  ASSERT_GE(matches.size(), 250u) << "of " << left.size() << " / " << right.size() << " keypoints";
   const double median = depth[depth.size() / 2];
   std::printf("EuRoC frame 0: %zu stereo matches of %zu / %zu keypoints; depth p10 %.2f median %.2f p90 %.2f m\n",
               matches.size(), left.size(), right.size(), depth[depth.size() / 10], median,

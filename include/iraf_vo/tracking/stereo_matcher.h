@@ -10,13 +10,16 @@
 // stereo_max_depth_baselines x baseline] of the left camera and the reprojection error in both images passes the
 // chi2 test (5.991 sigma^2).
 //
-// Depth range: beyond ~40 baselines the disparity of a 450-px focal length is ~11 px and one pixel of error is
-// ~9 % of depth (ORB-SLAM's "close point" limit ThDepth is 35-40 baselines); such far points are left to the
-// monocular triangulation over time, which has the longer baselines.
+// Depth range: up to 200 baselines (22 m for EuRoC, where the disparity of a 458-px focal length is ~2.3 px, about
+// the epipolar tolerance): far points are uncertain in depth, but the local BA weighs each point by its left and
+// right reprojection errors, so they still constrain the rotation and get their depth from later keyframes. A
+// cap at 40 baselines (ORB-SLAM's "close point" ThDepth; 4.4 m at EuRoC) kept half of the EuRoC MH_01 points out
+// of the first map: frames 0-305 then gave 61 mm SE(3) ATE and a 0.97 scale instead of 4.5 mm and 1.006.
 #pragma once
 
 #include "iraf_vo/camera/stereo_rig.h"
 #include "iraf_vo/tracking/frame.h"
+#include "iraf_vo/tracking/map.h"
 #include "iraf_vo/tracking/tracker_params.h"
 
 #include <Eigen/Core>
@@ -38,6 +41,9 @@ class StereoMatcher {
 
   /// The checked matches of one stereo frame (left and right: the same exposure, undistorted by Frame).
   std::vector<StereoMatch> match(const Frame& left, const Frame& right) const;
+  /// The same from the right image's features; fills left->right_obs (the match's right pixel and sigma per left
+  /// keypoint). false (no matches, right_obs empty) when the right features are unusable.
+  bool matchRight(Frame* left, const FeatureFrame& right, std::vector<StereoMatch>* matches) const;
 
   double maxDepth() const { return max_depth_; }
 
@@ -48,5 +54,9 @@ class StereoMatcher {
   Eigen::Vector3d c_r_in_l_;  // right camera centre in the left frame
   double max_depth_;
 };
+
+/// The matches as map points in the world (left.T_c_w), for the left keypoints without a map point
+/// (left.point_id < 0) when only_new, else for all.
+std::vector<StereoMapPoint> stereoMapPoints(const std::vector<StereoMatch>& matches, const Frame& left, bool only_new);
 
 }  // namespace iraf_vo
