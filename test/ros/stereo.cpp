@@ -135,6 +135,9 @@ TEST(Stereo, EurocBagMetricOdometryAndTheRightCameraStopping) {
     d_gt += (gt.poses[k + 10].translation() - gt.poses[k].translation()).norm();
   }
   ASSERT_GT(d_gt, 0.3) << "too few odometry samples at the segment ends";
+  std::printf("stereo graph: first pose %.2f frames after the first image, %zu poses of %d frames, travelled %.3f m, "
+              "ground truth %.3f m (ratio %.3f)\n", (w.odom.front()->header.stamp.toSec() - t0) / period,
+              w.odom.size(), kFrames, d_odom, d_gt, d_odom / d_gt);
   EXPECT_NEAR(d_odom / d_gt, 1.0, 0.05) << "travelled " << d_odom << " m, ground truth " << d_gt << " m";
   long stereo_warnings = 0;
   for (const auto& m : w.warnings) stereo_warnings += m.find("left camera only") != std::string::npos;
