@@ -148,7 +148,10 @@ TEST(LaunchFiles, TumviStereoWithASimulatedStereoBag) {
       << readFile(dir + ".sim.log") << readFile(dir + ".bag.log");
   Watch w;
   const std::string log = g_dir + "/tumvi_stereo.log";
-  Child launch("roslaunch iraf_vo tumvi_stereo.launch bag:=" + bag + " delay:=2", log);
+  // The simulator's own rig (its cam1 sensor.yaml), not the real TUM-VI extrinsics of config/tumvi_cam1.yaml.
+  Child launch("roslaunch iraf_vo tumvi_stereo.launch bag:=" + bag + " delay:=2 camera_file:=" + dir +
+                   "/mav0/cam0/sensor.yaml right_camera_file:=" + dir + "/mav0/cam1/sensor.yaml",
+               log);
   EXPECT_TRUE(waitFor([&] { return w.odomCount() >= 20; }, 90.0)) << "no odometry; " << readFile(log);
   launch.stop();  // the log is complete once roslaunch exits
   EXPECT_NE(readFile(log).find("tracker: stereo, baseline"), std::string::npos) << readFile(log);
