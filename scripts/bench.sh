@@ -3,6 +3,8 @@
 # then the whole offline VO per mode: CPU ms per frame over all threads (PNG decoding included), per-stage medians,
 # local-BA runs with ms per run (wall and thread CPU) and amortised per frame, wall fps, tracked %, ATE and peak RSS.
 # Speed targets live here, not in tests: the script prints the measured values next to the targets.
+# Stereo (once iraf_vo_run has --stereo and the dataset has mav0/cam1): the first mode again with --stereo, and the
+# stereo / mono ratio of CPU per frame (target <= 1.7) and of peak RSS.
 #
 #   scripts/bench.sh [--dataset ASL_DIR] [--frames N] [--frontend-frames N] [--modes "iraf baseline"] [--threaded|--sync]
 #                    [--graph]
@@ -99,6 +101,31 @@ if cpu and orb:
 print("summary: peak RSS %.1f MiB" % (int(rss.group(1)) / 1024.0 if rss else float("nan")))
 PY
 done
+first_mode="${modes%% *}"
+if [[ -f "$dataset/mav0/cam1/data.csv" && -f "$out/$first_mode.log" ]] && grep -q -- '--stereo' <<< "$("$bin/iraf_vo_run" --help 2>&1)"; then
+  echo "== whole VO stereo, mode $first_mode, frames 0-$((frames - 1)): target <= 1.7 x the mono CPU per frame"
+  args=(--dataset "$dataset" --stereo --frames "$frames" --mode "$first_mode" --out "$out/stereo.txt" --stats "$out/stereo.json" --quiet)
+  [[ -f "$gt" ]] && args+=(--gt "$gt")
+  snap="$(cpu_snapshot)"
+  # shellcheck disable=SC2086
+  /usr/bin/time -v "$bin/iraf_vo_run" "${args[@]}" $mapping >"$out/stereo.log" 2>"$out/stereo.time" \
+    || { echo "bench.sh: stereo run failed:"; tail -5 "$out/stereo.time"; }
+  host_check "$snap" "whole VO stereo ($first_mode)"
+  cat "$out/stereo.log"
+  /usr/bin/python3 - "$out/$first_mode.log" "$out/$first_mode.time" "$out/stereo.log" "$out/stereo.time" <<'PY'
+import re, sys
+def read(log, tim):
+    cpu = re.search(r"= ([0-9.]+) ms/frame", open(log).read())
+    rss = re.search(r"Maximum resident set size \(kbytes\): (\d+)", open(tim).read())
+    return (float(cpu.group(1)) if cpu else None), (int(rss.group(1)) / 1024.0 if rss else None)
+(mc, mr), (sc, sr) = read(sys.argv[1], sys.argv[2]), read(sys.argv[3], sys.argv[4])
+f = lambda v, fmt: fmt % v if v is not None else "?"
+print("summary: mono %s vs stereo %s CPU ms/frame: stereo = %s x mono (target <= 1.7)" %
+      (f(mc, "%.2f"), f(sc, "%.2f"), f(sc / mc if mc and sc else None, "%.2f")))
+print("summary: peak RSS mono %s vs stereo %s MiB (%s x)" %
+      (f(mr, "%.1f"), f(sr, "%.1f"), f(sr / mr if mr and sr else None, "%.2f")))
+PY
+fi
 if [[ $graph == 1 ]]; then
   echo "== nodelet graph on a bag of the dataset at its real rate: image -> odometry latency, peak RSS"
   set +u  # the ROS setup scripts read unset variables

@@ -8,7 +8,7 @@
 #                        [--scenarios "drive slider ..."] [--scenario-modes "iraf ..."] [--scenario-frames N]
 #                        [--scenario-preset clean|dark|...] [--no-scenarios]
 #                        [--light-presets "night ae_hunting ..."] [--light-cameras "pinhole fisheye"] [--light-frames N]
-#                        [--light-seed S] [--no-light] [--no-repeatability]
+#                        [--light-seed S] [--no-light] [--no-repeatability] [--no-stereo]
 #                        [--dataset PATH [--topic T] [--gt GT] [--camera sensor.yaml]] ...
 #
 # Sequences (default set, ~13 min on the 2-core development machine, + ~4 min once to simulate the scenarios):
@@ -28,6 +28,7 @@
 # Scenarios (other cameras and motions, iraf_vo_simulate --motion; run in --scenario-modes, default iraf only;
 # each motion's default length unless --scenario-frames; photometric --scenario-preset, default clean):
 #   drive                  street, KITTI-like 1241x376 pinhole, 10 Hz, ~1 m/frame, gentle turns (100 frames)
+#   highway                open road, structure mostly 15-300 m away, same camera and speed, wide curves (100 frames)
 #   slider                 pure sideways translation past objects at 0.3-1 m, 240x180, 25 Hz (100 frames)
 #   handheld_fast          room, up to 3 deg/frame with motion blur, EuRoC pinhole 752x480, 20 Hz (300 frames)
 #   handheld_fast_fisheye  the same with the TUM-VI Kannala-Brandt 512x512 camera
@@ -36,6 +37,9 @@
 #   fisheye                the --presets (clean dark ...) with the fisheye camera (--sim-frames)
 #   -> scenarios.md / scenarios.csv (tracked % after the first 5 frames of motion, first initialized frame,
 #      ATE RMSE and ATE in % of the ground-truth path; pass = >= 95 % and <= 1 %), appended to report.md.
+# Stereo (once iraf_vo_run has --stereo; --no-stereo skips it): scripts/stereo_table.sh in mode iraf, EuRoC 0-305
+#   stereo and every simulator motion x pinhole / fisheye rendered with --stereo (seed 0): SE(3) ATE in mm and % of
+#   the path, Sim(3) scale -> stereo/stereo.md, appended to report.md.
 # Modes: baseline he clahe enhance adaptive culling iraf.
 # Mapping runs inside the tracking thread (--set tracker.mapping_thread=false): results do not depend on the
 # machine's load (deterministic up to floating point); --threaded uses the mapping thread instead.
@@ -58,10 +62,11 @@ light_cameras="pinhole fisheye"
 light_frames=200
 light_seed=0
 do_repeat=1
+do_stereo=1
 do_sim=1
 do_euroc=1
 threaded=0
-scenarios="drive slider handheld_fast handheld_fast_fisheye static_start static_start_fisheye fisheye"
+scenarios="drive highway slider handheld_fast handheld_fast_fisheye static_start static_start_fisheye fisheye"
 scenario_modes="iraf"
 scenario_frames=0
 scenario_preset=clean
@@ -92,6 +97,7 @@ while [[ $# -gt 0 ]]; do
     --light-seed) need "$@"; light_seed="$2"; shift 2 ;;
     --no-light) light_presets=""; shift ;;
     --no-repeatability) do_repeat=0; shift ;;
+    --no-stereo) do_stereo=0; shift ;;
     --dataset) need "$@"; ext_paths+=("$2"); ext_topics+=(""); ext_gts+=(""); ext_cams+=(""); shift 2 ;;
     --topic|--gt|--camera)
       need "$@"; [[ ${#ext_paths[@]} -gt 0 ]] || die "$1 must follow a --dataset"
@@ -118,7 +124,7 @@ for m in $modes $scenario_modes; do
   case "$m" in baseline|he|clahe|enhance|adaptive|culling|iraf) ;; *) die "--modes: unknown mode '$m'" ;; esac
 done
 for sc in $scenarios; do
-  case "$sc" in drive|slider|handheld_fast|handheld_fast_fisheye|static_start|static_start_fisheye|fisheye) ;;
+  case "$sc" in drive|highway|slider|handheld_fast|handheld_fast_fisheye|static_start|static_start_fisheye|fisheye) ;;
     *) die "--scenarios: unknown scenario '$sc'" ;; esac
 done
 [[ "$scenario_frames" =~ ^[0-9]+$ && ( "$scenario_frames" == 0 || "$scenario_frames" -ge 30 ) ]] \
@@ -232,7 +238,7 @@ sf=()
 sp_tag="" && [[ "$scenario_preset" != clean ]] && sp_tag="_$scenario_preset"
 for sc in $scenarios; do
   case "$sc" in
-    drive|slider|handheld_fast) simulate "sim_$sc$sp_tag" --motion "$sc" "${sf[@]}" ;;
+    drive|highway|slider|handheld_fast) simulate "sim_$sc$sp_tag" --motion "$sc" "${sf[@]}" ;;
     handheld_fast_fisheye) simulate "sim_$sc$sp_tag" --motion handheld_fast --camera fisheye "${sf[@]}" ;;
     static_start)
       ssf=$scenario_frames && [[ $ssf == 0 ]] && ssf=300
@@ -392,4 +398,17 @@ if [[ ${#scen[@]} -gt 0 ]]; then
   cat "$out/scenarios.md" >> "$out/report.md"
 fi
 [[ -f "$out/repeatability.md" ]] && cat "$out/repeatability.md" >> "$out/report.md"
+if [[ $do_stereo == 1 ]]; then
+  if grep -q -- '--stereo' <<< "$("$bin/iraf_vo_run" --help 2>&1)"; then
+    log "stereo table (scripts/stereo_table.sh)"
+    stereo_args=(--out "$out/stereo")
+    [[ $do_euroc == 1 ]] || stereo_args+=(--no-euroc)
+    [[ $do_sim == 1 ]] || stereo_args+=(--no-sim)
+    [[ $threaded == 1 ]] && stereo_args+=(--threaded)
+    IRAF_VO_BUILD_DIR="$build" "$here/stereo_table.sh" "${stereo_args[@]}" && cat "$out/stereo/stereo.md" >> "$out/report.md" \
+      || log "stereo table failed (see above)"
+  else
+    log "iraf_vo_run has no --stereo: stereo table skipped"
+  fi
+fi
 log "done: $out/report.md"

@@ -42,8 +42,8 @@ PACKAGES=(
 # nodelets publish through diagnostic_updater), `rosrun tf2_tools echo.py world cam0` (tf2-tools: Debian ships no
 # tf2_echo binary, tf2_tools' echo.py is the same check; view_frames.py too), tf2_ros' python API
 # (python3-tf2-ros), `rosrun image_transport list_transports` / `republish` (image-transport-tools).
-# screenshots of rviz without a display (README figure): IRAF_VO_WITH_XVFB=1
-if [ "${IRAF_VO_WITH_XVFB:-0}" = 1 ]; then PACKAGES+=(xvfb x11-apps); fi
+# screenshots of rviz without a display (scripts/rviz_screenshot.sh: xvfb-run, imagemagick's import): IRAF_VO_WITH_XVFB=1
+if [ "${IRAF_VO_WITH_XVFB:-0}" = 1 ]; then PACKAGES+=(xvfb x11-apps imagemagick); fi
 
 if [ "$INSTALL" = 1 ]; then
   missing=()

@@ -134,6 +134,28 @@ ErrorStats computeStats(const std::vector<double>& e) {
   return s;
 }
 
+namespace {
+/// RMSE of |gt_i - S(est_i)|.
+double alignedRmse(const std::vector<Eigen::Vector3d>& est, const std::vector<Eigen::Vector3d>& gt, const Sim3& S) {
+  double sum = 0.0;
+  for (size_t i = 0; i < est.size(); ++i) sum += (S.apply(est[i]) - gt[i]).squaredNorm();
+  return est.empty() ? 0.0 : std::sqrt(sum / est.size());
+}
+
+/// SE(3)-aligned ATE and the Sim(3) scale of the matched positions (left invalid when either alignment fails).
+void measureMetricScale(const std::vector<Eigen::Vector3d>& est, const std::vector<Eigen::Vector3d>& gt,
+                        EvalResult* r) {
+  Sim3 se3, sim3;
+  std::string ignored;
+  r->metric_valid = alignUmeyama(est, gt, AlignMode::kSE3, &se3, &ignored) &&
+                    alignUmeyama(est, gt, AlignMode::kSim3, &sim3, &ignored);
+  if (!r->metric_valid) return;
+  r->se3_ate_rmse = alignedRmse(est, gt, se3);
+  r->sim3_scale = sim3.s;
+  r->sim3_ate_rmse = alignedRmse(est, gt, sim3);
+}
+}  // namespace
+
 bool evaluateTrajectory(const Trajectory& gt, const Trajectory& est, const EvalParams& p, EvalResult* r,
                         std::string* error) {
   *r = EvalResult();
@@ -184,6 +206,7 @@ bool evaluateTrajectory(const Trajectory& gt, const Trajectory& est, const EvalP
     if (k > 0) r->gt_length += (pg[k] - pg[k - 1]).norm();
   }
   r->ate = computeStats(ate);
+  measureMetricScale(pe, pg, r);
 
   // RPE over matched pairs (i, j): j = i + delta frames, or the first matched pose with t_j >= t_i + delta.
   std::vector<double> rt, rr;
@@ -245,6 +268,13 @@ std::string formatSummary(const EvalResult& r, const EvalParams& p) {
                 r.scale, r.gt_length);
   os << buf;
   os << statsLine("ATE [m]", r.ate, "m");
+  if (r.metric_valid) {
+    std::snprintf(buf, sizeof(buf),
+                  "metric: SE(3) ATE rmse %.6f m (%.3f %% of the path), Sim(3) scale %.6f (ATE rmse %.6f m)\n",
+                  r.se3_ate_rmse, r.gt_length > 0 ? 100.0 * r.se3_ate_rmse / r.gt_length : 0.0, r.sim3_scale,
+                  r.sim3_ate_rmse);
+    os << buf;
+  }
   std::snprintf(buf, sizeof(buf), "RPE over %g %s:\n", p.rpe_delta, p.rpe_delta_frames ? "frames" : "s");
   os << buf;
   os << statsLine("  trans", r.rpe_trans, "m");
@@ -271,6 +301,14 @@ std::string toJson(const EvalResult& r, const EvalParams& p) {
   }
   os << "],\n";
   os << "  \"ate\": " << statsJson(r.ate) << ",\n";
+  if (r.metric_valid) {
+    std::snprintf(buf, sizeof(buf),
+                  "  \"se3_ate_rmse\": %.9g,\n  \"se3_ate_percent_of_path\": %.9g,\n  \"sim3_scale\": %.9g,\n"
+                  "  \"sim3_ate_rmse\": %.9g,\n",
+                  r.se3_ate_rmse, r.gt_length > 0 ? 100.0 * r.se3_ate_rmse / r.gt_length : 0.0, r.sim3_scale,
+                  r.sim3_ate_rmse);
+    os << buf;
+  }
   os << "  \"rpe_trans\": " << statsJson(r.rpe_trans) << ",\n";
   os << "  \"rpe_rot_deg\": " << statsJson(r.rpe_rot) << "\n}\n";
   return os.str();

@@ -14,6 +14,8 @@
 #include <tf2_ros/transform_listener.h>
 
 #include <algorithm>
+#include <cstdio>
+#include <string>
 #include <pluginlib/class_list_macros.hpp>
 
 #include "iraf_vo/Features.h"
@@ -31,21 +33,33 @@
 
 namespace iraf_vo {
 
+namespace {
+
+/// One console line in rosconsole's layout, flushed at once.
+void printAtShutdown(FILE* out, const char* level, const std::string& text) {
+  std::fprintf(out, "[%5s] [%.9f]: %s\n", level, ros::WallTime::now().toSec(), text.c_str());
+  std::fflush(out);
+}
+
+}  // namespace
+
 class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig> {
  public:
   TrackerNodelet() : StageNodelet(trackerParamTable()) {}
   ~TrackerNodelet() override {
-    // The summary and the trajectory on shutdown (roslaunch Ctrl-C unloads the nodelets).
+    // The summary and the trajectory on shutdown (roslaunch Ctrl-C unloads the nodelets). Printed straight to the
+    // console: on Ctrl-C the manager shuts rosconsole down while the nodelets unload, and ROS_INFO lines from here
+    // were lost.
     std::lock_guard<std::mutex> lock(mutex_);
     if (session_) {
-      ROS_INFO("tracker: %s", sessionSummary(session_->counters(), monitor_.missed()).c_str());
+      printAtShutdown(stdout, "INFO", "tracker: " + sessionSummary(session_->counters(), monitor_.missed()));
       std::string err;
       if (!opts_.trajectory_file.empty() && session_->trajectory().size() > 0) {
         if (session_->saveTrajectory(&err))
-          ROS_INFO("tracker: trajectory written to %s (%zu poses)", opts_.trajectory_file.c_str(),
-                   session_->trajectory().size());
+          printAtShutdown(stdout, "INFO", "tracker: trajectory written to " + opts_.trajectory_file + " (" +
+                                              std::to_string(session_->trajectory().size()) + " poses)");
         else
-          ROS_ERROR("tracker: ~trajectory_file %s", err.c_str());
+          printAtShutdown(stderr, "ERROR", "tracker: ~trajectory_file " + err);
       }
     }
     session_.reset();

@@ -30,8 +30,12 @@ cv::Mat lineKernel(double length, const cv::Point2d& dir) {
 }
 }  // namespace
 
-ImageFormation::ImageFormation(const LightProfile& profile, CameraModelPtr camera)
-    : profile_(checked(profile)), camera_(std::move(camera)), sensor_(profile.sensor), ae_(profile.ae) {}
+ImageFormation::ImageFormation(const LightProfile& profile, CameraModelPtr camera, uint64_t noise_stream)
+    : profile_(checked(profile)),
+      camera_(std::move(camera)),
+      noise_stream_(noise_stream),
+      sensor_(profile.sensor),
+      ae_(profile.ae) {}
 
 bool ImageFormation::needsGeometry() const {
   return profile_.flashlight.enabled || (profile_.glare.enabled && !lamps_.empty());
@@ -148,7 +152,13 @@ void ImageFormation::settle(const cv::Mat& radiance, const FrameGeometry* geomet
 
 void ImageFormation::capture(int frame, const cv::Mat& radiance, const FrameGeometry* geometry, cv::Mat* out,
                              FrameLight* record, const cv::Point2d& image_motion_px, double frame_period_s) {
-  const Exposure e = ae_.next();
+  captureWithExposure(frame, ae_.next(), radiance, geometry, out, record, image_motion_px, frame_period_s);
+  ae_.meter(meterGrey(*out, radiance));
+}
+
+void ImageFormation::captureWithExposure(int frame, const Exposure& e, const cv::Mat& radiance,
+                                         const FrameGeometry* geometry, cv::Mat* out, FrameLight* record,
+                                         const cv::Point2d& image_motion_px, double frame_period_s) const {
   cv::Mat irr;
   illuminate(frame, radiance, geometry, &irr);
   const double extra = e.time_s - profile_.sensor.reference_exposure_s;
@@ -159,8 +169,9 @@ void ImageFormation::capture(int frame, const cv::Mat& radiance, const FrameGeom
       cv::filter2D(irr, irr, -1, lineKernel(length, image_motion_px / motion), cv::Point(-1, -1), 0,
                    cv::BORDER_REFLECT);
   }
-  sensor_.expose(irr, e, profile_.scene.seed * 0x9E3779B97F4A7C15ULL + static_cast<uint64_t>(frame) * 7919ULL + 1, out);
-  ae_.meter(meterGrey(*out, radiance));
+  uint64_t seed = profile_.scene.seed * 0x9E3779B97F4A7C15ULL + static_cast<uint64_t>(frame) * 7919ULL + 1;
+  if (noise_stream_ > 0) seed = mixSeed(seed ^ (noise_stream_ * 0xD1B54A32D192ED03ULL));
+  sensor_.expose(irr, e, seed, out);
   if (record) {
     record->frame = frame;
     record->exposure = e;

@@ -12,6 +12,12 @@ MotionPreset motionPreset(MotionKind motion) {
       p.camera = "kitti", p.rate_hz = 10.0, p.frames = 100;
       p.motion_blur_samples = 3, p.exposure_time_s = 0.002, p.texels_per_m = 128.0, p.brightness = 1.5;
       break;
+    case MotionKind::kHighway:
+      // KITTI highway-like: the drive's camera and timing; wide curves, a smoother ride.
+      p.camera = "kitti", p.rate_hz = 10.0, p.frames = 100;
+      p.motion_blur_samples = 3, p.exposure_time_s = 0.002, p.texels_per_m = 128.0, p.brightness = 1.5;
+      p.traj.drive_turn_deg = 4.0, p.traj.drive_turn_period_m = 600.0, p.traj.drive_vibration_deg = 0.15;
+      break;
     case MotionKind::kSlider:
       // 1 m of travel at 0.25 m/s = 100 frames at 25 Hz; indoor exposure.
       p.camera = "davis240", p.rate_hz = 25.0, p.frames = 100;

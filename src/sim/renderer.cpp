@@ -366,17 +366,28 @@ void Renderer::renderBlurred(const TrajectoryParams& traj, int frame, double exp
                              cv::Mat* depth) const {
   const double t = frameTime(frame);
   if (n <= 1 || exposure_s <= 0.0 || depth) {
-    render(trajectoryPose(traj, t), radiance, depth);  // depth: of the mid-exposure pose
+    render(cameraPose(traj, t), radiance, depth);  // depth: of the mid-exposure pose
     if (n <= 1 || exposure_s <= 0.0) return;
   }
   // Motion blur: average of n renders spread uniformly over [t - exposure/2, t + exposure/2].
   cv::Mat acc = cv::Mat::zeros(h_, w_, CV_32FC1), sub;
   for (int i = 0; i < n; ++i) {
     const double ts = t + exposure_s * ((i + 0.5) / n - 0.5);
-    render(trajectoryPose(traj, ts), &sub, nullptr);
+    render(cameraPose(traj, ts), &sub, nullptr);
     acc += sub;
   }
   *radiance = acc / static_cast<double>(n);
+}
+
+void Renderer::setPoseInRig(const Eigen::Isometry3d& T_C0_C) {
+  if (!T_C0_C.matrix().allFinite()) throw std::invalid_argument("Renderer: the camera's pose in the rig is not finite");
+  T_C0_C_ = T_C0_C;
+  in_rig_ = T_C0_C.matrix() != Eigen::Matrix4d::Identity();
+}
+
+Eigen::Isometry3d Renderer::cameraPose(const TrajectoryParams& traj, double t) const {
+  const Eigen::Isometry3d T_W_C0 = trajectoryPose(traj, t);
+  return in_rig_ ? T_W_C0 * T_C0_C_ : T_W_C0;
 }
 
 bool Renderer::castPixel(const Eigen::Isometry3d& T_W_C, const Eigen::Vector2d& uv, Eigen::Vector3d* p_W,

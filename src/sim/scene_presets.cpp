@@ -69,6 +69,24 @@ double placeBeside(const Polyline& pl, double s, int side, double offset, double
   return -1.0;
 }
 
+/// Outdoor scene parameters around the sampled path: the room's walls `wall_margin_m` beyond the path's extent (the
+/// distant skyline), an emissive sky at sky_m, the sun far away (elevation ~40 deg) from the left-front.
+SceneParams outdoorParams(const SceneParams& params, const Polyline& pl, double wall_margin_m, double sky_m,
+                          double sky_shade) {
+  double max_x = 0, max_y = 0;
+  for (const auto& q : pl.p) max_x = std::max(max_x, std::abs(q.x())), max_y = std::max(max_y, std::abs(q.y()));
+  SceneParams sp = params;
+  sp.room_x = 2 * (max_x + wall_margin_m);
+  sp.room_y = 2 * (max_y + wall_margin_m);
+  sp.room_z = sky_m;
+  const Eigen::Vector3d sun = Eigen::Vector3d(0.35, 0.6, 0.72).normalized() * 1e5;
+  sp.light_x = sun.x(), sp.light_y = sun.y(), sp.light_z = sun.z();
+  sp.light_range_m = 1e7;
+  sp.ambient = 0.42;
+  sp.ceiling_shade = sky_shade;
+  return sp;
+}
+
 }  // namespace
 
 Scene makeStreetScene(const SceneParams& params, const TrajectoryParams& traj, double path_length_m) {
@@ -76,18 +94,8 @@ Scene makeStreetScene(const SceneParams& params, const TrajectoryParams& traj, d
   const double tpm = params.texels_per_m;
   const double s0 = -40.0, s1 = path_length_m + 80.0;
   const Polyline pl = samplePath(traj, s0, s1);
-  double max_x = 0, max_y = 0;
-  for (const auto& q : pl.p) max_x = std::max(max_x, std::abs(q.x())), max_y = std::max(max_y, std::abs(q.y()));
-  SceneParams sp = params;
-  sp.room_x = 2 * (max_x + 90.0);  // distant city walls beyond the last buildings
-  sp.room_y = 2 * (max_y + 90.0);
-  sp.room_z = 40.0;
-  // Sun: far away (elevation ~40 deg) from the left-front: left facades lit, right ones in shade.
-  const Eigen::Vector3d sun = Eigen::Vector3d(0.35, 0.6, 0.72).normalized() * 1e5;
-  sp.light_x = sun.x(), sp.light_y = sun.y(), sp.light_z = sun.z();
-  sp.light_range_m = 1e7;
-  sp.ambient = 0.42;
-  sp.ceiling_shade = 1.12;
+  // Distant city walls 90 m beyond the path; sun from the left-front: left facades lit, right ones in shade.
+  const SceneParams sp = outdoorParams(params, pl, 90.0, 40.0, 1.12);
 
   cv::RNG rng(params.seed * 6364136223846793005ull + 1442695040888963407ull);
   const uint64_t ts = params.seed * 32;
@@ -139,6 +147,64 @@ Scene makeStreetScene(const SceneParams& params, const TrajectoryParams& traj, d
   return Scene(sp, std::move(tex), std::move(boxes));
 }
 
+Scene makeHighwayScene(const SceneParams& params, const TrajectoryParams& traj, double path_length_m) {
+  if (!(path_length_m >= 0.0)) throw std::invalid_argument("makeHighwayScene: path_length_m must be >= 0");
+  const double tpm = params.texels_per_m;
+  const double s0 = -60.0, s1 = path_length_m + 250.0;
+  const Polyline pl = samplePath(traj, s0, s1);
+  // Hills / skyline 320 m beyond the path; a hazy sky at 60 m, mostly below saturation at the drive's exposure.
+  const SceneParams sp = outdoorParams(params, pl, 320.0, 60.0, 0.8);
+
+  cv::RNG rng(params.seed * 2862933555777941757ull + 7046029254386353131ull);
+  const uint64_t ts = params.seed * 32 + 16;
+  const int fw = nextPow2(32 * tpm), fh = nextPow2(16 * tpm);
+  // Textures: 0-3 facades (buildings and the distant skyline), 4 road, 5 sky, 6 foliage, 7-8 signs / posts.
+  std::vector<SceneTexture> tex;
+  const float ftpm = static_cast<float>(tpm);
+  for (int i = 0; i < 4; ++i) tex.emplace_back(makeFacadeTexture(fw, fh, tpm, ts + i), ftpm);
+  // Worn road surface: the asphalt's contrast cut to 60 % (fainter grain and patches).
+  cv::Mat road = makeAsphaltTexture(nextPow2(32 * tpm), nextPow2(32 * tpm), tpm, ts + 4);
+  road.convertTo(road, CV_8U, 0.6, 0.4 * cv::mean(road)[0]);
+  tex.emplace_back(road, ftpm);
+  // Open, hazy sky seen at grazing angles up to the horizon: even (the street's clouds alias into a moire here).
+  const cv::Mat sky = makeSkyTexture(nextPow2(16 * tpm), nextPow2(16 * tpm), tpm, ts + 5);
+  tex.emplace_back(cv::Mat(sky.size(), CV_8UC1, cv::Scalar(cv::mean(sky)[0])), ftpm);
+  tex.emplace_back(makeFoliageTexture(nextPow2(8 * tpm), nextPow2(8 * tpm), tpm, ts + 6), ftpm);
+  for (int i = 0; i < 2; ++i)
+    tex.emplace_back(makeProceduralTexture(nextPow2(4 * tpm), nextPow2(4 * tpm), tpm, ts + 7 + i), ftpm);
+
+  std::vector<SceneBox> boxes;
+  for (int side : {1, -1}) {
+    // Near: delineator posts every 50 m and a few signs on the verge (the only structure within 15 m).
+    for (double s = s0 + rng.uniform(0.0, 50.0); s < s1; s += 50.0)
+      placeBeside(pl, s, side, 8.0, 0.12, 0.12, 0.0, 1.1, 8, 7.0, &boxes);
+    for (double s = s0 + rng.uniform(0.0, 120.0); s < s1; s += rng.uniform(100.0, 160.0))
+      if (rng.uniform(0.0, 1.0) < 0.5) placeBeside(pl, s, side, 10.0, 1.2, 2.6, 2.2, 4.0, 7, 9.0, &boxes);
+    // Single trees 15-30 m out, tree lines (woods) 40-90 m out, buildings 90-220 m out.
+    for (double s = s0; s < s1; s += 25.0)
+      if (rng.uniform(0.0, 1.0) < 0.35) {
+        const double crown = rng.uniform(3.0, 6.0), off = rng.uniform(15.0, 30.0);
+        placeBeside(pl, s, side, off, 0.4, 0.4, 0.0, 3.0, 8, off - 1.0, &boxes);
+        placeBeside(pl, s, side, off, crown, crown, 2.8, 2.8 + rng.uniform(3.0, 6.0), 6, off - crown, &boxes);
+      }
+    for (double s = s0; s < s1;) {
+      const double len = rng.uniform(20.0, 60.0), depth = rng.uniform(10.0, 25.0);
+      if (rng.uniform(0.0, 1.0) < 0.6)
+        placeBeside(pl, s + len / 2, side, rng.uniform(40.0, 90.0) + depth / 2, len, depth, 0.0, rng.uniform(8.0, 16.0),
+                    6, 35.0, &boxes);
+      s += len + rng.uniform(5.0, 40.0);
+    }
+    for (double s = s0; s < s1;) {
+      const double len = rng.uniform(20.0, 50.0), depth = rng.uniform(15.0, 30.0);
+      if (rng.uniform(0.0, 1.0) < 0.5)
+        placeBeside(pl, s + len / 2, side, rng.uniform(90.0, 220.0) + depth / 2, len, depth, 0.0,
+                    rng.uniform(10.0, 30.0), rng.uniform(0, 4), 80.0, &boxes);
+      s += len + rng.uniform(20.0, 80.0);
+    }
+  }
+  return Scene(sp, std::move(tex), std::move(boxes));
+}
+
 Scene makeSliderScene(const SceneParams& params, const TrajectoryParams& traj) {
   if (!(traj.slider_travel_m > 0.0 && traj.slider_travel_m <= 3.0))
     throw std::invalid_argument("makeSliderScene: slider_travel_m must be in (0, 3] m (got " +
@@ -181,6 +247,10 @@ Scene makeMotionScene(const SceneParams& params, const TrajectoryParams& traj, d
     case MotionKind::kDrive: {
       const double t_motion = motionClock(traj, duration_s);
       return makeStreetScene(params, traj, traj.drive_speed_mps * t_motion);
+    }
+    case MotionKind::kHighway: {
+      const double t_motion = motionClock(traj, duration_s);
+      return makeHighwayScene(params, traj, traj.drive_speed_mps * t_motion);
     }
     case MotionKind::kSlider: return makeSliderScene(params, traj);
     case MotionKind::kRoom:

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <sstream>
 
 #include <opencv2/imgcodecs.hpp>  // IMREAD_* flags
@@ -68,7 +69,8 @@ CameraModelPtr makeSimCamera(const std::string& camera, int width, int height, s
   return cam;
 }
 
-bool writeSensorYaml(const CameraModel& camera, double rate_hz, const std::string& path, std::string* error) {
+bool writeSensorYaml(const CameraModel& camera, double rate_hz, const std::string& path, std::string* error,
+                     const Eigen::Isometry3d& T_BS) {
   const std::vector<double> p = camera.parameters();
   std::ofstream f(path);
   if (!f) {
@@ -82,9 +84,14 @@ bool writeSensorYaml(const CameraModel& camera, double rate_hz, const std::strin
   };
   f << "# Written by iraf_vo_simulate (" << camera.modelName() << "). EuRoC/Kalibr layout.\n"
     << "sensor_type: camera\ncomment: iraf_vo simulated camera\n\n"
-    << "T_BS:\n  cols: 4\n  rows: 4\n  data: [1.0, 0.0, 0.0, 0.0,\n         0.0, 1.0, 0.0, 0.0,\n"
-    << "         0.0, 0.0, 1.0, 0.0,\n         0.0, 0.0, 0.0, 1.0]\n\n"
-    << "rate_hz: " << num(rate_hz) << "\n"
+    << "T_BS:\n  cols: 4\n  rows: 4\n  data: [";
+  const Eigen::Matrix4d M = T_BS.matrix();
+  for (int i = 0; i < 16; ++i) {
+    const double v = M(i / 4, i % 4);
+    f << (v == 0.0 ? std::string("0.0") : v == 1.0 ? std::string("1.0") : num(v));
+    f << (i == 15 ? "]\n\n" : i % 4 == 3 ? ",\n         " : ", ");
+  }
+  f << "rate_hz: " << num(rate_hz) << "\n"
     << "resolution: [" << camera.width() << ", " << camera.height() << "]\n"
     << "camera_model: pinhole\n"
     << "intrinsics: [" << num(p[0]) << ", " << num(p[1]) << ", " << num(p[2]) << ", " << num(p[3]) << "]  # fu, fv, cu, cv\n"
@@ -131,17 +138,29 @@ namespace {
 /// Renders (with depth when asked) and forms the image of frame f->index, adding to the report's times.
 using FormFrame = std::function<void(SimFrame* f, SimulateReport* rep)>;
 
-bool writeSimulation(const Renderer& renderer, const TrajectoryParams& traj, const PhotometricParams& photometric,
-                     const FormFrame& form, const std::string& out_dir,
+bool writeSimulation(const Renderer& renderer, const Renderer* right, const TrajectoryParams& traj,
+                     const PhotometricParams& photometric, const FormFrame& form, const std::string& out_dir,
                      const std::function<void(const SimFrame&)>& on_frame, SimulateReport* report, std::string* error) {
   const int n = renderer.params().frames;
   const bool write_depth = renderer.params().write_depth;
-  std::ofstream csv, gt, depth_csv;
+  std::ofstream csv, gt, depth_csv, right_csv;
   const std::string depth_dir = out_dir + "/mav0/depth0";
-  const std::string cam_dir = out_dir + "/mav0/cam0";
+  const std::string cam_dir = out_dir + "/mav0/cam0", right_dir = out_dir + "/mav0/cam1";
   if (!out_dir.empty()) {
     if (!makeDirs(cam_dir + "/data", error)) return false;
     if (!writeSensorYaml(renderer.camera(), renderer.params().rate_hz, cam_dir + "/sensor.yaml", error)) return false;
+    if (right) {
+      if (!makeDirs(right_dir + "/data", error)) return false;
+      if (!writeSensorYaml(right->camera(), renderer.params().rate_hz, right_dir + "/sensor.yaml", error,
+                           right->poseInRig()))
+        return false;
+      right_csv.open(right_dir + "/data.csv");
+      if (!right_csv) {
+        setError(error, right_dir + "/data.csv: cannot write");
+        return false;
+      }
+      right_csv << "#timestamp [ns],filename\n";
+    }
     if (!writeEventsCsv(out_dir + "/events.csv", photometric, n, error)) return false;
     csv.open(cam_dir + "/data.csv");
     gt.open(out_dir + "/groundtruth.txt");
@@ -178,6 +197,13 @@ bool writeSimulation(const Renderer& renderer, const TrajectoryParams& traj, con
         return false;
       }
       csv << f.stamp_ns << ',' << name << '\n';
+      if (right) {
+        if (!codecs::imwrite(right_dir + "/data/" + name, f.right_image)) {
+          setError(error, right_dir + "/data/" + name + ": cannot write PNG");
+          return false;
+        }
+        right_csv << f.stamp_ns << ',' << name << '\n';
+      }
       if (write_depth) {
         cv::Mat mm;
         f.depth.convertTo(mm, CV_16U, 1000.0);  // saturates at 65.535 m
@@ -193,7 +219,7 @@ bool writeSimulation(const Renderer& renderer, const TrajectoryParams& traj, con
     if (on_frame) on_frame(f);
     ++rep.frames;
   }
-  if (!out_dir.empty() && (!csv.flush() || !gt.flush())) {
+  if (!out_dir.empty() && (!csv.flush() || !gt.flush() || (right && !right_csv.flush()))) {
     setError(error, out_dir + ": write failed (disk full?)");
     return false;
   }
@@ -220,18 +246,33 @@ bool simulateSequence(const Renderer& renderer, const TrajectoryParams& traj, co
     applyPhotometric(radiance, f->index, photometric, &f->image);
     rep->photometric_ms += msSince(t0);
   };
-  return writeSimulation(renderer, traj, photometric, form, out_dir, on_frame, report, error);
+  return writeSimulation(renderer, nullptr, traj, photometric, form, out_dir, on_frame, report, error);
 }
 
 bool simulateSequence(const Renderer& renderer, const TrajectoryParams& traj, const LightProfile& light,
                       const std::string& out_dir, const std::function<void(const SimFrame&)>& on_frame,
                       SimulateReport* report, std::string* error) {
+  return simulateSequence(renderer, nullptr, traj, light, out_dir, on_frame, report, error);
+}
+
+bool simulateSequence(const Renderer& renderer, const Renderer* right, const TrajectoryParams& traj,
+                      const LightProfile& light, const std::string& out_dir,
+                      const std::function<void(const SimFrame&)>& on_frame, SimulateReport* report,
+                      std::string* error) {
   const std::string lerr = validate(light);
   if (!lerr.empty()) {
     setError(error, "light profile '" + light.name + "': " + lerr);
     return false;
   }
+  if (right && (right->params().frames != renderer.params().frames ||
+                right->params().rate_hz != renderer.params().rate_hz)) {
+    setError(error, "stereo: the right camera's frames and rate must be the left's");
+    return false;
+  }
   ImageFormation formation(light, renderer.cameraPtr());
+  // The right camera: the left's exposure and gain, its own sensor noise (noise stream 1).
+  std::unique_ptr<ImageFormation> right_formation;
+  if (right) right_formation = std::make_unique<ImageFormation>(light, right->cameraPtr(), 1);
   const int n = renderer.params().frames;
   const Eigen::Vector2d centre(0.5 * (renderer.camera().width() - 1), 0.5 * (renderer.camera().height() - 1));
   if (light.glare.enabled) {
@@ -242,6 +283,7 @@ bool simulateSequence(const Renderer& renderer, const TrajectoryParams& traj, co
       if (renderer.castPixel(trajectoryPose(traj, renderer.frameTime(frame)), centre, &p)) lamps.push_back(p);
     }
     formation.setGlareLamps(lamps);
+    if (right_formation) right_formation->setGlareLamps(lamps);
   }
   const bool geometry = formation.needsGeometry() || renderer.params().write_depth;
   std::vector<FrameLight> lights;
@@ -262,8 +304,18 @@ bool simulateSequence(const Renderer& renderer, const TrajectoryParams& traj, co
     if (geometry) f->depth = g.depth.clone();
     lights.push_back(f->light);
     rep->photometric_ms += msSince(t0);
+    if (!right) return;
+    t0 = SteadyClock::now();
+    FrameGeometry gr;
+    right->renderFrame(traj, f->index, f->light.exposure.time_s, &radiance, geometry ? &gr.depth : nullptr);
+    gr.T_W_C = right->cameraPose(traj, right->frameTime(f->index));
+    rep->render_ms += msSince(t0);
+    t0 = SteadyClock::now();
+    right_formation->captureWithExposure(f->index, f->light.exposure, radiance, geometry ? &gr : nullptr,
+                                         &f->right_image, &f->right_light);
+    rep->photometric_ms += msSince(t0);
   };
-  if (!writeSimulation(renderer, traj, light.scene, form, out_dir, on_frame, report, error)) return false;
+  if (!writeSimulation(renderer, right, traj, light.scene, form, out_dir, on_frame, report, error)) return false;
   return out_dir.empty() || writeExposureCsv(out_dir + "/exposure.csv", lights, error);
 }
 
@@ -293,133 +345,6 @@ bool readAslCsv(const std::string& path, std::vector<std::pair<int64_t, std::str
     }
   }
   return true;
-}
-
-namespace {
-/// Forms output image `index` (rows(), timestamps) from the real image `img` (CV_8UC1).
-using FormImage = std::function<void(int index, int64_t stamp_ns, const cv::Mat& img, cv::Mat* out)>;
-
-bool degradeImages(const std::string& in_dir, const std::string& out_dir, const PhotometricParams& photometric,
-                   const FormImage& form, DegradeReport* report, std::string* error) {
-  const std::string in_cam = in_dir + "/mav0/cam0", out_cam = out_dir + "/mav0/cam0";
-  if (!fs::is_regular_file(in_cam + "/data.csv")) {
-    setError(error, in_dir + ": not an ASL sequence (missing " + in_cam + "/data.csv)");
-    return false;
-  }
-  if (fs::exists(out_dir) && fs::equivalent(in_dir, out_dir)) {
-    setError(error, out_dir + ": output must differ from the input");
-    return false;
-  }
-  std::vector<std::pair<int64_t, std::string>> rows;
-  if (!readAslCsv(in_cam + "/data.csv", &rows, error)) return false;
-  if (!makeDirs(out_cam + "/data", error)) return false;
-
-  DegradeReport rep;
-  rep.images = static_cast<int>(rows.size());
-  // Ground truth and calibration: copied unchanged (recursive for folders).
-  std::error_code ec;
-  auto copyOne = [&](const fs::path& src, const fs::path& rel) {
-    const fs::path dst = fs::path(out_dir) / rel;
-    fs::create_directories(dst.parent_path(), ec);
-    fs::copy(src, dst, fs::copy_options::recursive | fs::copy_options::overwrite_existing, ec);
-    if (ec) std::cerr << "degrade: cannot copy " << src << ": " << ec.message() << "\n";
-    else rep.copied.push_back(rel.string());
-  };
-  for (const auto& entry : fs::directory_iterator(in_dir, ec)) {
-    const std::string name = entry.path().filename().string();
-    if (name == "mav0") continue;
-    if (entry.is_regular_file() || (entry.is_directory() && name.find("groundtruth") != std::string::npos))
-      copyOne(entry.path(), name);
-  }
-  for (const auto& entry : fs::directory_iterator(in_dir + "/mav0", ec)) {
-    const std::string name = entry.path().filename().string();
-    if (name == "cam0") continue;
-    if (entry.is_regular_file() || entry.is_directory()) copyOne(entry.path(), fs::path("mav0") / name);
-  }
-  for (const auto& entry : fs::directory_iterator(in_cam, ec))
-    if (entry.is_regular_file() && entry.path().filename() != "data.csv")
-      copyOne(entry.path(), fs::path("mav0/cam0") / entry.path().filename());
-
-  std::ofstream csv(out_cam + "/data.csv");
-  if (!csv) {
-    setError(error, out_cam + "/data.csv: cannot write");
-    return false;
-  }
-  csv << "#timestamp [ns],filename\n";
-  for (size_t i = 0; i < rows.size(); ++i) {
-    const std::string src = in_cam + "/data/" + rows[i].second;
-    cv::Mat img = codecs::imread(src, cv::IMREAD_UNCHANGED);
-    if (!img.empty() && img.channels() == 3) cv::cvtColor(img, img, cv::COLOR_BGR2GRAY);
-    if (!img.empty() && img.depth() == CV_16U) img.convertTo(img, CV_8U, 1.0 / 256.0);
-    if (img.empty() || img.type() != CV_8UC1) {
-      std::cerr << "degrade: " << src << ": missing or unreadable image (row " << i << "), skipped\n";
-      ++rep.skipped;
-      continue;
-    }
-    cv::Mat out;
-    form(static_cast<int>(i), rows[i].first, img, &out);
-    const std::string dst = out_cam + "/data/" + rows[i].second;
-    if (!codecs::imwrite(dst, out)) {
-      std::cerr << "degrade: " << dst << ": cannot write, skipped\n";
-      ++rep.skipped;
-      continue;
-    }
-    csv << rows[i].first << ',' << rows[i].second << '\n';
-    ++rep.written;
-  }
-  if (!writeEventsCsv(out_dir + "/events.csv", photometric, rep.images, error)) return false;
-  if (report) *report = rep;
-  return true;
-}
-}  // namespace
-
-bool degradeAslSequence(const std::string& in_dir, const std::string& out_dir, const PhotometricParams& photometric,
-                        DegradeReport* report, std::string* error) {
-  const std::string perr = validate(photometric);
-  if (!perr.empty()) {
-    setError(error, "photometric events: " + perr);
-    return false;
-  }
-  auto form = [&](int index, int64_t, const cv::Mat& img, cv::Mat* out) {
-    applyPhotometric(img, index, photometric, out);
-  };
-  return degradeImages(in_dir, out_dir, photometric, form, report, error);
-}
-
-bool degradeAslSequence(const std::string& in_dir, const std::string& out_dir, const LightProfile& light,
-                        DegradeReport* report, std::string* error) {
-  const std::string lerr = validate(light);
-  if (!lerr.empty()) {
-    setError(error, "light profile '" + light.name + "': " + lerr);
-    return false;
-  }
-  std::string cam_err;
-  ImageFormation formation(light, loadCamera(in_dir + "/mav0/cam0/sensor.yaml", &cam_err));
-  std::vector<FrameLight> lights;
-  cv::Mat prev, cur;
-  int64_t prev_ns = 0;
-  auto form = [&](int index, int64_t stamp_ns, const cv::Mat& img, cv::Mat* out) {
-    img.convertTo(cur, CV_32F);
-    if (lights.empty()) formation.settle(cur, nullptr);
-    cv::Point2d motion(0.0, 0.0);
-    double period = 0.05;
-    // The image motion of the frame, for the blur of an exposure longer than the reference.
-    if (!prev.empty() && prev.size() == cur.size() &&
-        formation.nextExposure().time_s > light.sensor.reference_exposure_s) {
-      double response = 0.0;
-      motion = cv::phaseCorrelate(prev, cur, cv::noArray(), &response);
-      if (!(response > 0.05)) motion = cv::Point2d(0.0, 0.0);  // no consistent shift between the images
-      const double dt = (stamp_ns - prev_ns) * 1e-9;
-      if (dt > 1e-3 && dt < 1.0) period = dt;
-    }
-    FrameLight rec;
-    formation.capture(index, cur, nullptr, out, &rec, motion, period);
-    lights.push_back(rec);
-    std::swap(prev, cur);
-    prev_ns = stamp_ns;
-  };
-  if (!degradeImages(in_dir, out_dir, light.scene, form, report, error)) return false;
-  return writeExposureCsv(out_dir + "/exposure.csv", lights, error);
 }
 
 }  // namespace iraf_vo

@@ -87,14 +87,15 @@ namespace {
 constexpr EnumName<MotionKind> kMotionNames[] = {{MotionKind::kRoom, "room"},
                                                  {MotionKind::kDrive, "drive"},
                                                  {MotionKind::kSlider, "slider"},
-                                                 {MotionKind::kHandheldFast, "handheld_fast"}};
+                                                 {MotionKind::kHandheldFast, "handheld_fast"},
+                                                 {MotionKind::kHighway, "highway"}};
 }  // namespace
 
 const char* toString(MotionKind m) { return nameOf(kMotionNames, m); }
 
 bool parseMotionKind(const std::string& s, MotionKind* m) { return parseName(kMotionNames, s, m); }
 
-std::string motionKindNames() { return "room|drive|slider|handheld_fast"; }
+std::string motionKindNames() { return "room|drive|slider|handheld_fast|highway"; }
 
 std::string validate(const TrajectoryParams& p) {
   std::ostringstream err;
@@ -133,7 +134,8 @@ Eigen::Vector2d drivePath(const TrajectoryParams& p, double s, double* heading) 
 Eigen::Isometry3d trajectoryPose(const TrajectoryParams& p, double t) {
   const double tm = motionClock(p, t);
   switch (p.motion) {
-    case MotionKind::kDrive: return drivePose(p, tm);
+    case MotionKind::kDrive:
+    case MotionKind::kHighway: return drivePose(p, tm);
     case MotionKind::kSlider: return sliderPose(p, tm);
     case MotionKind::kHandheldFast: return loopPose(p, tm, true);
     case MotionKind::kRoom: break;

@@ -6,6 +6,7 @@
 //
 // Copies mav0/cam0/sensor.yaml, any groundtruth*/ folder, mav0/state_groundtruth_estimate0/ (and the
 // other mav0 sensors), writes OUT/mav0/cam0/data.csv + data/*.png, OUT/events.csv and OUT/exposure.csv.
+// A stereo sequence's mav0/cam1 is degraded too: the same light, cam0's exposure and gain, its own noise.
 // Missing or unreadable images are reported and skipped; a missing dataset exits non-zero.
 #include <iostream>
 #include <limits>
@@ -15,6 +16,7 @@
 #include <vector>
 
 #include "iraf_vo/pipeline/command_line.h"
+#include "iraf_vo/sim/asl_degrade.h"
 #include "iraf_vo/sim/light_profile.h"
 #include "iraf_vo/sim/sequence.h"
 
@@ -66,7 +68,11 @@ int main(int argc, char** argv) {
     return 1;
   }
   std::cout << "iraf_vo_degrade: " << profile << ": wrote " << rep.written << " of " << rep.images << " images to "
-            << out_dir << " (" << rep.skipped << " missing/unreadable skipped); copied:";
+            << out_dir << " (" << rep.skipped << " missing/unreadable skipped)";
+  if (rep.right_images > 0)
+    std::cout << ", cam1 " << rep.right_written << " of " << rep.right_images << " (" << rep.right_skipped
+              << " skipped)";
+  std::cout << "; copied:";
   for (const auto& c : rep.copied) std::cout << " " << c;
   std::cout << "\n";
   return rep.written > 0 ? 0 : 1;

@@ -1,12 +1,16 @@
-// iraf_vo_pose_nees --dataset DIR [--camera sensor.yaml] [--config yaml] [--frames N] [--gt FILE]
+// iraf_vo_pose_nees --dataset DIR [--camera sensor.yaml] [--config yaml] [--frames N] [--gt FILE] [--csv FILE]
 // How well the tracker's pose covariance (TrackResult::covariance, published in odometry.pose.covariance) predicts
 // its frame-to-frame error: for consecutive TRACKING frames of one map, the error of the relative motion (camera
 // centre step and world-frame rotation step, after the Sim(3) alignment of the whole run to the ground truth)
 // against C_k + C_k-1:  NEES = e^T (C_k + C_k-1)^-1 e. A consistent covariance gives a mean NEES near the degrees of
 // freedom (6; 3 for position, 3 for rotation); larger = optimistic. Prints the mean / median and the factor that
 // would make the mean equal to the degrees of freedom. Ground truth: DIR/groundtruth.txt (iraf_vo_simulate).
+// --csv: one row per frame pair for fitting a calibration: stamp, e (6); for frame k-1 then k: median chi2,
+// inliers, used_pnp, C (36, row-major); for frame k-1 then k: the deviation from the constant-velocity
+// extrapolation of the two output poses before it (6, zero without both); |step| of the centre, |step| of the
+// rotation, keyframe flags of k-1 and k.
 #include <iraf_vo/camera/camera_loader.h>
-#include <iraf_vo/eval/trajectory_eval.h>
+#include <iraf_vo/eval/pose_nees.h>
 #include <iraf_vo/io/image_folder.h>
 #include <iraf_vo/pipeline/frame_source.h>
 #include <iraf_vo/pipeline/offline_pipeline.h>
@@ -28,11 +32,45 @@ struct Sample {
   Eigen::Matrix<double, 6, 6> C;
   long map;
   double median_chi2;
+  int inliers;
+  bool used_pnp;
+  bool keyframe;
 };
 
 Eigen::Vector3d logRotation(const Eigen::Matrix3d& R) {
   const Eigen::AngleAxisd aa(R);
   return aa.angle() * aa.axis();
+}
+
+/// One row per frame pair (see the header comment).
+bool writeCsv(const std::string& path, const std::vector<Sample>& samples,
+              const std::vector<iraf_vo::FrameToFrameError>& errors) {
+  FILE* csv = std::fopen(path.c_str(), "w");
+  if (!csv) return false;
+  for (const iraf_vo::FrameToFrameError& f : errors) {
+    const size_t k = f.index;
+    std::fprintf(csv, "%.6f", samples[k].stamp);
+    for (int i = 0; i < 6; ++i) std::fprintf(csv, ",%.9g", f.error[i]);
+    for (size_t j : {k - 1, k}) {
+      std::fprintf(csv, ",%.6g,%d,%d", samples[j].median_chi2, samples[j].inliers, int(samples[j].used_pnp));
+      for (int i = 0; i < 36; ++i) std::fprintf(csv, ",%.9g", samples[j].C(i / 6, i % 6));
+    }
+    for (size_t j : {k - 1, k}) {
+      Eigen::Matrix<double, 6, 1> d = Eigen::Matrix<double, 6, 1>::Zero();
+      if (j >= 2 && samples[j - 2].map == samples[j].map) {
+        const Eigen::Isometry3d vel = samples[j - 1].T.inverse() * samples[j - 2].T;  // T_cw[j-1] T_cw[j-2]^-1
+        const Eigen::Isometry3d pred = (vel * samples[j - 1].T.inverse()).inverse();
+        d.head<3>() = samples[j].T.translation() - pred.translation();
+        d.tail<3>() = logRotation(samples[j].T.rotation() * pred.rotation().transpose());
+      }
+      for (int i = 0; i < 6; ++i) std::fprintf(csv, ",%.9g", d[i]);
+    }
+    const Eigen::Vector3d step = samples[k].T.translation() - samples[k - 1].T.translation();
+    std::fprintf(csv, ",%.9g,%.9g,%d,%d\n", step.norm(),
+                 logRotation(samples[k].T.rotation() * samples[k - 1].T.rotation().transpose()).norm(),
+                 int(samples[k - 1].keyframe), int(samples[k].keyframe));
+  }
+  return std::fclose(csv) == 0;
 }
 
 double mean(const std::vector<double>& v) {
@@ -50,7 +88,7 @@ double median(std::vector<double> v) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string dataset, camera_path, config, gt_path;
+  std::string dataset, camera_path, config, gt_path, csv_path;
   long frames = -1;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -59,8 +97,9 @@ int main(int argc, char** argv) {
     else if (a == "--camera") camera_path = value();
     else if (a == "--config") config = value();
     else if (a == "--gt") gt_path = value();
+    else if (a == "--csv") csv_path = value();
     else if (a == "--frames") frames = std::atol(value().c_str());
-    else return std::fprintf(stderr, "usage: iraf_vo_pose_nees --dataset DIR [--camera Y] [--config Y] [--frames N] [--gt F]\n"), 2;
+    else return std::fprintf(stderr, "usage: iraf_vo_pose_nees --dataset DIR [--camera Y] [--config Y] [--frames N] [--gt F] [--csv F]\n"), 2;
   }
   iraf_vo::AslImageReader asl;
   std::string err;
@@ -85,7 +124,6 @@ int main(int argc, char** argv) {
   opts.height = cam->height();
   iraf_vo::Tracker tracker(cam, params.tracker);
   std::vector<Sample> samples;
-  iraf_vo::Trajectory est;
   long map = 0;
   {
     iraf_vo::OfflinePipeline pipeline(&source, params.enhance, params.features, opts);
@@ -95,40 +133,26 @@ int main(int argc, char** argv) {
       const iraf_vo::TrackResult r = tracker.track(it.frame);
       if (r.initialized_now) ++map;
       if (r.state != iraf_vo::TrackingState::kTracking) continue;
-      samples.push_back({it.frame.stamp, r.T_w_c, r.covariance, map, r.median_chi2});
-      est.push_back(it.frame.stamp, r.T_w_c);
+      samples.push_back({it.frame.stamp, r.T_w_c, r.covariance, map, r.median_chi2, r.inliers, r.used_pnp, r.is_keyframe});
     }
   }
-  iraf_vo::EvalParams ep;
+  std::vector<iraf_vo::CovariancePose> poses;
+  for (const Sample& x : samples) poses.push_back({x.stamp, x.T, x.C, x.map});
+  std::vector<iraf_vo::FrameToFrameError> errors;
   iraf_vo::EvalResult res;
-  if (!iraf_vo::evaluateTrajectory(gt, est, ep, &res, &err)) return std::fprintf(stderr, "iraf_vo_pose_nees: %s\n", err.c_str()), 1;
-  const iraf_vo::Sim3 to_est = res.alignment.inverse();  // GT -> estimate frame (its scale)
-  const auto pairs = iraf_vo::associate(gt.stamps, est.stamps, ep.max_dt);
-  std::vector<long> gt_of(est.size(), -1);
-  for (const auto& p : pairs) gt_of[p.second] = static_cast<long>(p.first);
-  std::vector<double> nees6, nees_t, nees_r, nees_vf;
-  for (size_t k = 1; k < samples.size(); ++k) {
-    if (samples[k].map != samples[k - 1].map || gt_of[k] < 0 || gt_of[k - 1] < 0) continue;
-    const Eigen::Isometry3d G0 = to_est.apply(gt.poses[gt_of[k - 1]]), G1 = to_est.apply(gt.poses[gt_of[k]]);
-    const Eigen::Isometry3d& T0 = samples[k - 1].T;
-    const Eigen::Isometry3d& T1 = samples[k].T;
-    Eigen::Matrix<double, 6, 1> e;
-    e.head<3>() = (T1.translation() - T0.translation()) - (G1.translation() - G0.translation());
-    e.tail<3>() = logRotation((T1.rotation() * T0.rotation().transpose()) *
-                              (G1.rotation() * G0.rotation().transpose()).transpose());
-    const Eigen::Matrix<double, 6, 6> C = samples[k].C + samples[k - 1].C;
-    nees6.push_back(e.dot(C.ldlt().solve(e)));
-    // with the a-posteriori variance factor of each pose (median chi2 of its inliers / 1.386, the median of chi2(2))
-    const double f0 = std::max(1.0, samples[k - 1].median_chi2 / 1.386), f1 = std::max(1.0, samples[k].median_chi2 / 1.386);
-    const Eigen::Matrix<double, 6, 6> Cv = samples[k].C * f1 + samples[k - 1].C * f0;
-    nees_vf.push_back(e.dot(Cv.ldlt().solve(e)));
-    nees_t.push_back(e.head<3>().dot(C.topLeftCorner<3, 3>().ldlt().solve(e.head<3>())));
-    nees_r.push_back(e.tail<3>().dot(C.bottomRightCorner<3, 3>().ldlt().solve(e.tail<3>())));
+  if (!iraf_vo::frameToFrameNees(gt, poses, &errors, &err, &res))
+    return std::fprintf(stderr, "iraf_vo_pose_nees: %s\n", err.c_str()), 1;
+  std::vector<double> nees6, nees_t, nees_r;
+  for (const iraf_vo::FrameToFrameError& f : errors) {
+    nees6.push_back(f.nees);
+    nees_t.push_back(f.nees_position);
+    nees_r.push_back(f.nees_rotation);
   }
+  if (!csv_path.empty() && !writeCsv(csv_path, samples, errors))
+    return std::fprintf(stderr, "iraf_vo_pose_nees: --csv %s: cannot write\n", csv_path.c_str()), 1;
   std::printf("%s: %zu tracked, %zu frame pairs, ATE %.4f (scale %.3f)\n", dataset.c_str(), samples.size(),
               nees6.size(), res.ate.rmse, res.scale);
   std::printf("NEES 6-dof mean %.2f median %.2f (dof 6) -> factor %.2f\n", mean(nees6), median(nees6), mean(nees6) / 6.0);
-  std::printf("NEES 6-dof with the variance factor: mean %.2f median %.2f\n", mean(nees_vf), median(nees_vf));
   std::vector<double> chi2;
   for (const Sample& x : samples) chi2.push_back(x.median_chi2);
   std::printf("median chi2 of the inliers: median %.2f mean %.2f\n", median(chi2), mean(chi2));

@@ -3,12 +3,15 @@
 // pinhole-radtan or Kannala-Brandt camera, forms the images with a light profile (scene light, sensor
 // noise, auto-exposure; the shutter's motion blur follows the exposure) and writes an ASL folder (+ TUM
 // ground truth, events.csv, exposure.csv, optionally a rosbag with /cam0/image_raw mono8 and /groundtruth/pose).
+// --stereo adds the right camera of a rig (mav0/cam1, /cam1/image_raw): same intrinsics, the camera's
+// baseline along x (--baseline), optionally a small rotation (--rig-yaw/--rig-pitch/--rig-roll).
 //
 //   iraf_vo_simulate --preset clean|dark|overexposed|flicker|mixed|night|ae_hunting|light_switch|blackout|
 //                             flashlight|glare --out DIR [--motion M] [--static-start SEC]
 //       [--frames N] [--rate HZ] [--camera pinhole|fisheye|kitti|davis240|path/to/sensor.yaml]
 //       [--width W --height H] [--seed S] [--speed X] [--supersample S] [--motion-blur K] [--exposure SEC]
 //       [--bag OUT.bag] [--threads N] [--no-photos] [--depth]
+//       [--stereo [--baseline M] [--rig-yaw DEG] [--rig-pitch DEG] [--rig-roll DEG]]
 //   iraf_vo_simulate --benchmark N [--camera ...]   (render speed, single core and all cores)
 #include <algorithm>
 #include <chrono>
@@ -34,6 +37,7 @@
 #include "iraf_vo/sim/scene.h"
 #include "iraf_vo/sim/scene_presets.h"
 #include "iraf_vo/sim/sequence.h"
+#include "iraf_vo/sim/sim_stereo_rig.h"
 
 int main(int argc, char** argv) {
   iraf_vo::SimParams sim;
@@ -42,7 +46,8 @@ int main(int argc, char** argv) {
   std::string preset, out_dir, bag_path, motion_name = "room";
   int seed = 1, benchmark = 0;
   double static_start = 0.0;
-  bool no_photos = false;
+  bool no_photos = false, stereo = false;
+  iraf_vo::SimStereoRig rig;
   iraf_vo::CommandLine cli(
       "iraf_vo_simulate",
       "Renders a textured scene along a motion preset and writes an ASL folder (+ TUM ground truth, events.csv).\n"
@@ -54,7 +59,9 @@ int main(int argc, char** argv) {
       "  slider         pure sideways translation (0.25 m/s, 1 m travel, back and forth) past table objects at\n"
       "                 0.3-1 m and a wall at 4 m; davis240 (240x180, f 200, k1 -0.1), 25 Hz, 100 frames, blur 3 x 10 ms\n"
       "  handheld_fast  the room loop with fast hand rotations (<= 3 deg/frame); pinhole or --camera fisheye,\n"
-      "                 20 Hz, 300 frames, motion blur 4 x 8 ms");
+      "                 20 Hz, 300 frames, motion blur 4 x 8 ms\n"
+      "  highway        open road (low-contrast surface, posts and signs 8-10 m out, trees, woods 40-90 m, buildings\n"
+      "                 90-220 m), 10 m/s with wide curves; kitti, 10 Hz (1 m/frame), 100 frames, blur 3 x 2 ms");
   cli.option("--preset", "P", &preset, "light profile: " + iraf_vo::lightProfileNames());
   cli.option("--out", "DIR", &out_dir, "output ASL folder");
   cli.option("--motion", "M", &motion_name, iraf_vo::motionKindNames() + " (default room)");
@@ -74,11 +81,22 @@ int main(int argc, char** argv) {
   cli.option("--threads", "N", &sim.threads, 0, 256, "render threads (0 = all cores)");
   cli.flag("--no-photos", &no_photos, "no photo posters on the walls");
   cli.flag("--depth", &sim.write_depth, "also OUT/mav0/depth0: 16-bit PNG z-depth in mm");
+  cli.flag("--stereo", &stereo, "also the right camera of a stereo rig: OUT/mav0/cam1 (+ /cam1/image_raw in the bag)");
+  cli.option("--baseline", "M", &rig.baseline_m, 0.001, 5.0,
+             "stereo baseline (default: the camera's rig: pinhole 0.110, fisheye 0.101, kitti 0.54, others 0.10)");
+  cli.option("--rig-yaw", "DEG", &rig.yaw_deg, -10.0, 10.0, "stereo: right camera turned about y (toe-in)");
+  cli.option("--rig-pitch", "DEG", &rig.pitch_deg, -10.0, 10.0, "stereo: right camera turned about x");
+  cli.option("--rig-roll", "DEG", &rig.roll_deg, -10.0, 10.0, "stereo: right camera turned about z");
   cli.option("--benchmark", "N", &benchmark, 1, 100000, "render speed over N frames, single core and all cores");
   if (const int code = cli.parse(argc, argv); code >= 0) return code;
   if (no_photos) scene_params.photo_dir.clear();
   const bool set_camera = cli.given("--camera"), set_frames = cli.given("--frames"), set_rate = cli.given("--rate"),
              set_blur = cli.given("--motion-blur"), set_exposure = cli.given("--exposure");
+  if (!stereo && (cli.given("--baseline") || cli.given("--rig-yaw") || cli.given("--rig-pitch") ||
+                  cli.given("--rig-roll"))) {
+    std::cerr << "iraf_vo_simulate: --baseline and --rig-* need --stereo\n";
+    return 2;
+  }
   if (benchmark == 0 && (preset.empty() || out_dir.empty())) {
     std::cerr << "iraf_vo_simulate: --preset and --out are required\n" << cli.usage();
     return 2;
@@ -129,11 +147,15 @@ int main(int argc, char** argv) {
 
   auto t0 = std::chrono::steady_clock::now();
   std::shared_ptr<const iraf_vo::Scene> scene;
-  std::unique_ptr<iraf_vo::Renderer> renderer;
+  std::unique_ptr<iraf_vo::Renderer> renderer, right;
   try {
     scene = std::make_shared<const iraf_vo::Scene>(
         iraf_vo::makeMotionScene(scene_params, traj, (sim.frames - 1) / sim.rate_hz + sim.exposure_time_s));
     renderer = std::make_unique<iraf_vo::Renderer>(camera, scene, sim);
+    if (stereo && benchmark == 0) {
+      right = std::make_unique<iraf_vo::Renderer>(camera, scene, sim);
+      right->setPoseInRig(iraf_vo::rightCameraInLeft(rig, sim.camera));
+    }
   } catch (const std::exception& e) {
     std::cerr << "iraf_vo_simulate: " << e.what() << "\n";
     return 2;
@@ -142,6 +164,11 @@ int main(int argc, char** argv) {
   std::cout << "motion: " << iraf_vo::toString(motion) << " (static start " << static_start << " s), "
             << sim.frames << " frames at " << sim.rate_hz << " Hz, motion blur " << sim.motion_blur_samples << " x "
             << sim.exposure_time_s * 1e3 << " ms\n";
+  if (right) {
+    const Eigen::Isometry3d& T = right->poseInRig();
+    std::cout << "stereo: right camera at (" << T.translation().transpose() << ") m in the left camera, turned "
+              << Eigen::AngleAxisd(T.linear()).angle() * 180.0 / M_PI << " deg\n";
+  }
   std::cout << "camera: " << camera->describe() << "\nscene: " << scene->boxes().size() << " boxes, "
             << scene->photoPosters() << " photo posters; setup (textures + bearings) " << setup_ms << " ms\n";
 
@@ -198,6 +225,12 @@ int main(int argc, char** argv) {
     h.seq = static_cast<uint32_t>(f.index);
     h.frame_id = "cam0";
     bag->write("/cam0/image_raw", stamp, cv_bridge::CvImage(h, sensor_msgs::image_encodings::MONO8, f.image).toImageMsg());
+    if (!f.right_image.empty()) {
+      std_msgs::Header hr = h;
+      hr.frame_id = "cam1";
+      bag->write("/cam1/image_raw", stamp,
+                 cv_bridge::CvImage(hr, sensor_msgs::image_encodings::MONO8, f.right_image).toImageMsg());
+    }
     geometry_msgs::PoseStamped pose;
     pose.header = h;
     pose.header.frame_id = "world";
@@ -213,7 +246,7 @@ int main(int argc, char** argv) {
   t0 = std::chrono::steady_clock::now();
   bool ok = false;
   try {
-    ok = iraf_vo::simulateSequence(*renderer, traj, light, out_dir, on_frame, &rep, &err);
+    ok = iraf_vo::simulateSequence(*renderer, right.get(), traj, light, out_dir, on_frame, &rep, &err);
   } catch (const std::exception& e) {
     err = e.what();
   }
@@ -225,7 +258,7 @@ int main(int argc, char** argv) {
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::cout << "camera: exposure " << t_min * 1e3 << "-" << t_max * 1e3 << " ms, gain up to " << g_max
             << ", darkest frame mean grey " << grey_min << ", up to " << 100.0 * clip_max << " % of a frame clipped\n";
-  std::cout << "wrote " << rep.frames << " frames (" << preset << ") to " << out_dir << (bag ? " and " + bag_path : "")
+  std::cout << "wrote " << rep.frames << (right ? " stereo" : "") << " frames (" << preset << ") to " << out_dir << (bag ? " and " + bag_path : "")
             << " in " << total << " s: render " << rep.render_ms / rep.frames << " ms/frame ("
             << 1000.0 * rep.frames / rep.render_ms << " frames/s), photometric " << rep.photometric_ms / rep.frames
             << " ms/frame, png " << rep.write_ms / rep.frames << " ms/frame\n";

@@ -24,23 +24,8 @@ std::shared_ptr<Keyframe> Keyframe::fromFrame(const Frame& f, const Eigen::Isome
 // ---------------------------------------------------------------------------------------------
 // Creation
 // ---------------------------------------------------------------------------------------------
-long Map::createPointLocked(const Eigen::Vector3d& p_w, Keyframe& a, int kp_a, Keyframe& b, int kp_b) {
-  auto mp = std::make_shared<MapPoint>();
-  mp->id = next_point_id_++;
-  mp->p_w = p_w;
-  mp->desc = descriptorRow(a.descriptors, kp_a);
-  mp->octave = a.keypoints[kp_a].octave;
-  mp->angle = a.keypoints[kp_a].angle;
-  mp->obs[a.id] = kp_a;
-  mp->obs[b.id] = kp_b;
-  mp->first_kf = a.id;
-  a.point_id[kp_a] = mp->id;
-  b.point_id[kp_b] = mp->id;
-  points_[mp->id] = mp;
-  return mp->id;
-}
-
-long Map::createStereoPointLocked(const Eigen::Vector3d& p_w, Keyframe& kf, int kp) {
+// A new point created by keypoint kp of keyframe kf (its descriptor, octave and angle; its first observation).
+MapPoint& Map::newPointLocked(const Eigen::Vector3d& p_w, Keyframe& kf, int kp) {
   auto mp = std::make_shared<MapPoint>();
   mp->id = next_point_id_++;
   mp->p_w = p_w;
@@ -48,11 +33,23 @@ long Map::createStereoPointLocked(const Eigen::Vector3d& p_w, Keyframe& kf, int 
   mp->octave = kf.keypoints[kp].octave;
   mp->angle = kf.keypoints[kp].angle;
   mp->obs[kf.id] = kp;
-  mp->stereo_obs = 1;
   mp->first_kf = kf.id;
   kf.point_id[kp] = mp->id;
   points_[mp->id] = mp;
-  return mp->id;
+  return *mp;
+}
+
+long Map::createPointLocked(const Eigen::Vector3d& p_w, Keyframe& a, int kp_a, Keyframe& b, int kp_b) {
+  MapPoint& mp = newPointLocked(p_w, a, kp_a);
+  mp.obs[b.id] = kp_b;
+  b.point_id[kp_b] = mp.id;
+  return mp.id;
+}
+
+long Map::createStereoPointLocked(const Eigen::Vector3d& p_w, Keyframe& kf, int kp) {
+  MapPoint& mp = newPointLocked(p_w, kf, kp);
+  mp.stereo_obs = 1;  // the right image of the same keyframe
+  return mp.id;
 }
 
 bool Map::createStereoMap(const KeyframePtr& kf, const std::vector<StereoMapPoint>& points, int min_points,

@@ -48,6 +48,8 @@ bool MapInitializer::initialize(Frame& cur, const MapAnchor& anchor, Map* map, K
   two_view_params.min_parallax_deg = p_.init_min_parallax_deg;
   two_view_params.min_parallax_points = p_.init_min_parallax_points;
   two_view_params.min_median_parallax_deg = p_.init_min_median_parallax_deg;
+  two_view_params.determined_parallax_points = p_.init_determined_parallax_points;
+  two_view_params.determined_min_chi2 = p_.init_determined_min_chi2;
   two_view_params.min_triangulated = p_.init_min_triangulated;
   two_view_params.homography_ratio = p_.init_homography_ratio;
   two_view_params.ambiguity_max_chi2 = p_.init_ambiguity_max_chi2;

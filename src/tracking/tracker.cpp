@@ -57,6 +57,7 @@ struct Tracker::Impl {
   Eigen::Isometry3d T_last_rel_kf = Eigen::Isometry3d::Identity();  // T_last_c_w * T_kf_c_w^-1
   Eigen::Isometry3d velocity = Eigen::Isometry3d::Identity();
   bool have_velocity = false;
+  PoseCovarianceCalibrator covariance_calibrator;  // of the poses output as TRACKING
   long last_kf_id = -1;
   int frames_since_kf = 0;
   int consecutive_lost = 0;
@@ -422,6 +423,8 @@ void Tracker::Impl::onTracked(const Frame& cur, TrackResult* res, bool is_keyfra
   res->state = TrackingState::kTracking;
   res->is_keyframe = is_keyframe;
   res->T_w_c = cur.T_c_w.inverse();
+  if (res->initialized_now) covariance_calibrator.start(cur.T_c_w, cur.index);
+  else res->covariance = covariance_calibrator.calibrate(res->covariance, res->median_chi2, cur.T_c_w, cur.index);
   res->keypoint_inlier.assign(cur.point_id.size(), 0);
   for (size_t i = 0; i < cur.point_id.size(); ++i) res->keypoint_inlier[i] = cur.point_id[i] >= 0;
   last_good_T_w_c = res->T_w_c;

@@ -35,6 +35,12 @@ const ParamTable<TrackerParams>& trackerParamTable() {
                    "(ORB-SLAM 50); 0 = the median point"),
           doubleParam("init_min_median_parallax_deg", &P::init_min_median_parallax_deg, 0.0, 20.0,
                       "Parallax test: the median triangulated point also needs this parallax [deg]"),
+          intParam("init_determined_parallax_points", &P::init_determined_parallax_points, 0, 10000,
+                   "Or, for an essential-matrix motion whose translation is determined (init_ambiguity_max_chi2 > 0): "
+                   "this many points need init_min_parallax_deg, no median test; 0 = off"),
+          doubleParam("init_determined_min_chi2", &P::init_determined_min_chi2, 0.0, 1e6,
+                      "The translation counts as determined for init_determined_parallax_points when the ambiguity "
+                      "check's profile chi2 is at least this"),
           intParam("init_min_triangulated", &P::init_min_triangulated, 8, 10000, "Points the initial map needs"),
           doubleParam("init_homography_ratio", &P::init_homography_ratio, 0.0, 1.0,
                       "R_H = S_H / (S_H + S_F) above this -> homography (ORB-SLAM 0.45)"),

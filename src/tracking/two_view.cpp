@@ -88,6 +88,7 @@ struct Hypothesis {
   int good = 0;
   double parallax_deg = 0.0;         // the tested one (TwoViewParams::min_parallax_points)
   double median_parallax_deg = 0.0;
+  double few_parallax_deg = 0.0;     // the determined_parallax_points-th largest
   std::vector<Eigen::Vector3d> points;
   std::vector<char> ok;
 };
@@ -129,6 +130,8 @@ void checkRT(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, const std::vect
     const size_t n = parallaxes.size();
     const size_t rank = params.min_parallax_points > 0 ? std::min<size_t>(params.min_parallax_points, n) - 1 : n / 2;
     h->parallax_deg = parallaxes[rank];
+    if (params.determined_parallax_points > 0)
+      h->few_parallax_deg = parallaxes[std::min<size_t>(params.determined_parallax_points, n) - 1];
   }
 }
 
@@ -219,8 +222,10 @@ std::vector<Hypothesis> poseHypotheses(const TwoViewModels& models, bool use_h, 
   return hyps;
 }
 
-// The hypothesis with the most good points, if it is unambiguous, triangulates enough and has enough parallax.
-const Hypothesis* selectHypothesis(std::vector<Hypothesis>* hyps, const TwoViewParams& params, TwoViewResult* res) {
+// The hypothesis with the most good points, if it is unambiguous, triangulates enough and has enough parallax
+// (allow_few: an essential-matrix motion may pass with determined_parallax_points, see TwoViewParams).
+const Hypothesis* selectHypothesis(std::vector<Hypothesis>* hyps, const TwoViewParams& params, bool allow_few,
+                                   TwoViewResult* res) {
   if (hyps->empty()) {
     res->reason = res->model + ": no decomposition";
     return nullptr;
@@ -244,8 +249,14 @@ const Hypothesis* selectHypothesis(std::vector<Hypothesis>* hyps, const TwoViewP
   // parallax (measured: 0.95 deg median where the essential matrix gives 0.2): its median point must pass.
   const bool homography = res->model == "homography";
   const double tested = homography ? best.median_parallax_deg : best.parallax_deg;
-  if (tested < params.min_parallax_deg ||
-      best.median_parallax_deg < (homography ? params.min_parallax_deg : params.min_median_parallax_deg)) {
+  const bool strict = tested >= params.min_parallax_deg &&
+                      best.median_parallax_deg >= (homography ? params.min_parallax_deg : params.min_median_parallax_deg);
+  // Forward motion past far structure: only the few near points have parallax. Accepted when the translation is
+  // determined (the ambiguity check, run after the refinement, refuses it otherwise).
+  res->few_parallax_points = allow_few && !strict && !homography && params.determined_parallax_points > 0 &&
+                             params.ambiguity_max_chi2 > 0.0 && best.few_parallax_deg >= params.min_parallax_deg;
+  if (res->few_parallax_points) res->parallax_deg = best.few_parallax_deg;
+  if (!strict && !res->few_parallax_points) {
     res->reason = res->model + ": parallax too low (" + std::to_string(best.parallax_deg) + " deg; median " +
                   std::to_string(best.median_parallax_deg) + ")";
     return nullptr;
@@ -319,8 +330,16 @@ void checkTranslationAmbiguity(const ForwardMatches& m, double focal, const TwoV
   ap.max_delta_chi2 = params.ambiguity_max_chi2;
   const MotionAmbiguity a = findTranslationAmbiguity(m.p1, m.p2, res->R_21, res->t_21, focal, ap);
   res->translation_profile_chi2 = a.profile_chi2;
-  if (!a.ambiguous) return;
+  if (!a.ambiguous && !(res->few_parallax_points && a.profile_chi2 < params.determined_min_chi2)) return;
   res->ok = false;
+  if (!a.ambiguous) {
+    char few[160];
+    std::snprintf(few, sizeof(few), "essential: parallax too low (%d-th point %.2f deg) for a translation this weakly "
+                  "determined (profile chi2 %.1f < %.0f)", params.determined_parallax_points, res->parallax_deg,
+                  a.profile_chi2, params.determined_min_chi2);
+    res->reason = few;
+    return;
+  }
   char buf[160];
   if (a.refined_shift_deg >= ap.min_angle_deg)
     std::snprintf(buf, sizeof(buf), "essential: translation not determined (refined on all matches it moves %.0f deg)",
@@ -358,7 +377,7 @@ TwoViewResult initializeTwoView(const std::vector<Eigen::Vector3d>& b1, const st
   const bool use_h = models.have_h && (!models.have_e || rh > params.homography_ratio);
   res.model = use_h ? "homography" : "essential";
   std::vector<Hypothesis> hyps = poseHypotheses(models, use_h, m, focal, params);
-  const Hypothesis* best = selectHypothesis(&hyps, params, &res);
+  const Hypothesis* best = selectHypothesis(&hyps, params, false, &res);
   // Both models explain the matches about equally (small motion: R_H ~ 0.5) and the chosen one fails (e.g. an
   // ambiguous homography decomposition): the other model gets the same checks.
   std::vector<Hypothesis> other_hyps;
@@ -367,11 +386,31 @@ TwoViewResult initializeTwoView(const std::vector<Eigen::Vector3d>& b1, const st
     TwoViewResult other = res;
     other.model = use_h ? "essential" : "homography";
     other_hyps = poseHypotheses(models, !use_h, m, focal, params);
-    best = selectHypothesis(&other_hyps, params, &other);
+    best = selectHypothesis(&other_hyps, params, false, &other);
     if (best) {
       res = other;
     } else {
       res.reason += "; " + other.reason;
+    }
+  }
+  // Neither model passes the strict parallax test: the essential matrix's motion with few parallax-rich points
+  // (forward driving past far structure), if its translation turns out determined.
+  if (!best && models.have_e && params.determined_parallax_points > 0 && params.ambiguity_max_chi2 > 0.0) {
+    std::vector<Hypothesis>* e_hyps = !use_h ? &hyps : &other_hyps;
+    if (use_h && other_hyps.empty()) other_hyps = poseHypotheses(models, false, m, focal, params);
+    TwoViewResult few = res;
+    few.model = "essential";
+    best = selectHypothesis(e_hyps, params, true, &few);
+    if (best) res = few;
+  }
+  if (best && params.max_rotation_inlier_ratio < 1.0) {
+    const std::vector<char>& inl = res.model == "homography" ? models.inliers_h : models.inliers_e;
+    const int n_model = static_cast<int>(std::count(inl.begin(), inl.end(), 1));
+    const int n_rot = inliersOfPureRotation(m.b1, m.b2, inl, focal, params.threshold_px);
+    if (n_rot >= params.max_rotation_inlier_ratio * n_model) {
+      res.reason = res.model + ": no translation (a pure rotation explains " + std::to_string(n_rot) + " of its " +
+                   std::to_string(n_model) + " inliers)";
+      best = nullptr;
     }
   }
   if (best) refineTwoView(*best, m, focal, params, &res);

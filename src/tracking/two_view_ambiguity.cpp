@@ -1,5 +1,7 @@
 #include "iraf_vo/tracking/two_view_ambiguity.h"
 
+#include <Eigen/SVD>
+
 #include <ceres/ceres.h>
 
 #include <algorithm>
@@ -154,6 +156,29 @@ MotionAmbiguity findTranslationAmbiguity(const std::vector<Eigen::Vector2d>& p1,
     }
   out.ambiguous = params.max_delta_chi2 > 0.0 && out.profile_chi2 < params.max_delta_chi2;
   return out;
+}
+
+int inliersOfPureRotation(const std::vector<Eigen::Vector3d>& b1, const std::vector<Eigen::Vector3d>& b2,
+                          const std::vector<char>& inliers, double focal, double threshold_px) {
+  std::vector<char> use = inliers;
+  int n = 0;
+  for (int round = 0; round < 3; ++round) {
+    Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
+    for (size_t i = 0; i < b1.size(); ++i)
+      if (use[i]) M += b2[i].normalized() * b1[i].normalized().transpose();
+    Eigen::JacobiSVD<Eigen::Matrix3d> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+    D(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1.0 : 1.0;
+    const Eigen::Matrix3d R = svd.matrixU() * D * svd.matrixV().transpose();  // b2 ~ R b1 (Kabsch)
+    n = 0;
+    for (size_t i = 0; i < b1.size(); ++i) {
+      const double e = std::acos(std::clamp((R * b1[i].normalized()).dot(b2[i].normalized()), -1.0, 1.0)) * focal;
+      use[i] = inliers[i] && e < 2.0 * threshold_px;
+      n += use[i];
+    }
+    if (n < 3) break;
+  }
+  return n;
 }
 
 }  // namespace iraf_vo

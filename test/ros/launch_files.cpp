@@ -2,9 +2,12 @@
 // (iraf_vo_simulate, 120 frames of the room at 20 Hz through the launch file's own camera yaml):
 //   1. euroc.launch bag:=... image:=/cam0/image_raw/compressed base_frame:=base_link base_from_camera_file:=true
 //      trajectory_file:=... record:=...: odometry of base_link, base_link -> cam0 on /tf_static, tracking_events
-//      (NEW_MAP epoch 1), the trajectory file and the recorded bag after shutdown.
+//      (NEW_MAP epoch 1); `rostopic echo -n 1` of tracking_status / tracking_events / diagnostics and
+//      `rosservice call /tracker/save_trajectory "path: ..."`; after SIGINT (Ctrl-C) the console's summary and
+//      "trajectory written to" lines, the trajectory file and the recorded bag.
 //   2. tumvi.launch bag:=... (fisheye): odometry and epoch 1.
-//   3. live.launch camera:=/camera transport:=raw camera_file:=... fed by `rosbag play` remapped to /camera.
+//   3. live.launch camera:=/camera transport:=raw camera_file:=... base_frame:=base_link camera_frame:=cam0
+//      publish_camera_tf:=true camera_xyz_ypr:=... fed by `rosbag play`: odometry of base_link, base_link -> cam0.
 //   4. tumvi_stereo.launch on a simulated stereo bag (iraf_vo_simulate --stereo; skipped while the simulator has no
 //      stereo rig): odometry.
 //   5. live_stereo.launch left:=/stereo/left right:=/stereo/right with the EuRoC yaml files, fed by `rosbag play` of
@@ -99,6 +102,9 @@ TEST(LaunchFiles, EurocWithACompressedBag) {
   Child launch("roslaunch iraf_vo euroc.launch bag:=" + bag + " image:=/cam0/image_raw/compressed delay:=2 "
                "base_frame:=base_link base_from_camera_file:=true trajectory_file:=" + traj + " record:=" + g_dir +
                "/rec", log);
+  Child echo_status("rostopic echo -n 1 /tracking_status", g_dir + "/echo_tracking_status.txt");
+  Child echo_events("rostopic echo -n 1 /tracking_events", g_dir + "/echo_tracking_events.txt");
+  Child echo_diagnostics("rostopic echo -n 1 /diagnostics", g_dir + "/echo_diagnostics.txt");
   EXPECT_TRUE(waitFor([&] { return w.odomCount() >= 20; }, 90.0)) << "no odometry; " << readFile(log);
   EXPECT_TRUE(waitFor([&] { return w.hasNewMap(1); }, 5.0)) << "no NEW_MAP event for epoch 1";
   {
@@ -107,8 +113,26 @@ TEST(LaunchFiles, EurocWithACompressedBag) {
   }
   EXPECT_TRUE(waitFor([&] { return tf.canTransform("base_link", "cam0", ros::Time(0)); }, 5.0))
       << "no static TF base_link -> cam0 from base_from_camera_file";
+  // The README's command-line checks on the running graph (the echoes started with the launch: the bag is short).
+  for (const std::string& topic : {"tracking_status", "tracking_events", "diagnostics"}) {
+    const std::string out = g_dir + "/echo_" + topic + ".txt";
+    EXPECT_TRUE(waitFor([&] { return readFile(out).find("header") != std::string::npos; }, 20.0))
+        << "rostopic echo -n 1 /" << topic << ": " << readFile(out);
+  }
+  const std::string echo = g_dir + "/echo.txt", cli_traj = g_dir + "/cli_traj.txt";
+  EXPECT_TRUE(sh("timeout 30 rosservice call /tracker/save_trajectory \"path: '" + cli_traj + "'\" > " + echo + " 2>&1"))
+      << readFile(echo);
+  EXPECT_NE(readFile(echo).find("success: True"), std::string::npos) << readFile(echo);
+  iraf_vo::Trajectory saved;
+  std::string save_err;
+  EXPECT_TRUE(iraf_vo::readTumTrajectory(cli_traj, &saved, &save_err)) << save_err;
   ros::WallDuration(2.0).sleep();
   launch.stop();
+  // Ctrl-C: the tracker's summary and the final trajectory write reach the console log.
+  const std::string console = readFile(log);
+  EXPECT_NE(console.find("tracker: summary: "), std::string::npos) << "no shutdown summary; " << console;
+  EXPECT_NE(console.find("trajectory written to " + traj + " ("), std::string::npos)
+      << "no 'trajectory written to " << traj << "'; " << console;
   iraf_vo::Trajectory t;
   std::string err;
   EXPECT_TRUE(iraf_vo::readTumTrajectory(traj, &t, &err)) << err;
@@ -131,11 +155,21 @@ TEST(LaunchFiles, LiveCameraFedByABag) {
   ASSERT_FALSE(raw_bag.empty());
   Watch w;
   const std::string log = g_dir + "/live.log";
+  // The README's z-up robot: odom -> base_link, base_link -> cam0 published by the launch file.
   Child launch("roslaunch iraf_vo live.launch camera:=/camera transport:=raw camera_file:=" + kConfig +
-               "euroc_cam0.yaml", log);
+               "euroc_cam0.yaml base_frame:=base_link camera_frame:=cam0 publish_camera_tf:=true "
+               "camera_xyz_ypr:=\"0.1 0 0.3 -1.5707963 0 -1.5707963\"", log);
+  tf2_ros::Buffer tf;
+  tf2_ros::TransformListener listener(tf);
   ros::WallDuration(3.0).sleep();  // the nodelets subscribe
   Child player("rosbag play -q " + raw_bag, g_dir + "/live_play.log");
   EXPECT_TRUE(waitFor([&] { return w.odomCount() >= 20; }, 90.0)) << "no odometry; " << readFile(log);
+  {
+    std::lock_guard<std::mutex> l(w.m);
+    if (!w.odom.empty()) EXPECT_EQ(w.odom.back()->child_frame_id, "base_link");
+  }
+  EXPECT_TRUE(waitFor([&] { return tf.canTransform("base_link", "cam0", ros::Time(0)); }, 5.0))
+      << "no base_link -> cam0 from publish_camera_tf";
 }
 
 TEST(LaunchFiles, TumviStereoWithASimulatedStereoBag) {

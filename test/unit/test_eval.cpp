@@ -246,6 +246,49 @@ TEST(Eval, CoverageStatsAndErrors) {
   EXPECT_FALSE(parseAlignMode("affine", &m));
 }
 
+TEST(Eval, MetricAlignmentReportsTheScaleErrorThatSim3Hides) {
+  // A rigidly moved copy of the ground truth that is 3 % too large: Sim(3) absorbs the scale (ATE ~ 0),
+  // SE(3) cannot (ATE of the order of 3 % of the trajectory's extent), and both report the Sim(3) scale.
+  const Trajectory gt = makeGt(100);
+  Sim3 S;
+  S.s = 1.03;
+  S.R = Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  S.t = Eigen::Vector3d(0.5, -1, 2);
+  Trajectory est;
+  for (size_t i = 0; i < gt.size(); ++i) est.push_back(gt.stamps[i], S.apply(gt.poses[i]));
+  std::string err;
+  EvalParams p;
+  EvalResult sim3, se3;
+  ASSERT_TRUE(evaluateTrajectory(gt, est, p, &sim3, &err)) << err;
+  p.align = AlignMode::kSE3;
+  ASSERT_TRUE(evaluateTrajectory(gt, est, p, &se3, &err)) << err;
+  EXPECT_LT(sim3.ate.rmse, 1e-9);
+  EXPECT_NEAR(sim3.scale, 1.0 / 1.03, 1e-9);
+  EXPECT_DOUBLE_EQ(se3.scale, 1.0);
+  // Scale error 3 % on positions spread over ~1.5 m around their centroid: SE(3) ATE 2-6 cm.
+  EXPECT_GT(se3.ate.rmse, 0.02);
+  EXPECT_LT(se3.ate.rmse, 0.06);
+  for (const EvalResult* r : {&sim3, &se3}) {
+    ASSERT_TRUE(r->metric_valid);
+    EXPECT_NEAR(r->se3_ate_rmse, se3.ate.rmse, 1e-12);
+    EXPECT_NEAR(r->sim3_scale, 1.0 / 1.03, 1e-9);
+    EXPECT_LT(r->sim3_ate_rmse, 1e-9);
+  }
+  // A metric copy (scale 1): SE(3) ATE ~ 0 too.
+  S.s = 1.0;
+  Trajectory metric;
+  for (size_t i = 0; i < gt.size(); ++i) metric.push_back(gt.stamps[i], S.apply(gt.poses[i]));
+  EvalResult m;
+  ASSERT_TRUE(evaluateTrajectory(gt, metric, p, &m, &err)) << err;
+  EXPECT_LT(m.ate.rmse, 1e-9);
+  EXPECT_NEAR(m.sim3_scale, 1.0, 1e-9);
+  // Printed and in the JSON.
+  EXPECT_NE(formatSummary(se3, p).find("metric: SE(3) ATE rmse"), std::string::npos) << formatSummary(se3, p);
+  EXPECT_NE(toJson(se3, p).find("\"sim3_scale\": 0.97087"), std::string::npos) << toJson(se3, p);
+  EXPECT_NE(toJson(se3, p).find("\"se3_ate_percent_of_path\""), std::string::npos);
+  EXPECT_NE(toJson(se3, p).find("\"align\": \"se3\""), std::string::npos);
+}
+
 TEST(Eval, SharedEurocGroundTruthAgainstPerturbedCopy) {
   const std::string path = std::string(IRAF_VO_SHARED_DIR) + "/data/euroc_mh01_600/groundtruth/groundtruth_tum_cam0.txt";
   struct stat st;
@@ -291,6 +334,12 @@ TEST(EvalTool, CommandLine) {
   const std::string json((std::istreambuf_iterator<char>(j)), std::istreambuf_iterator<char>());
   EXPECT_NE(json.find("\"n_matched\": 100"), std::string::npos) << json;
   EXPECT_NE(json.find("\"scale\": 2"), std::string::npos) << json;  // 1 / 0.5
+  // --align se3: the scale stays 1, the Sim(3) scale is reported beside the metric ATE.
+  ASSERT_EQ(std::system((base + " --align se3 --json " + dir + "iraf_vo_cli_se3.json > /dev/null").c_str()), 0);
+  std::ifstream j3(dir + "iraf_vo_cli_se3.json");
+  const std::string json3((std::istreambuf_iterator<char>(j3)), std::istreambuf_iterator<char>());
+  EXPECT_NE(json3.find("\"scale\": 1,"), std::string::npos) << json3;
+  EXPECT_NE(json3.find("\"sim3_scale\": 2"), std::string::npos) << json3;
   // Bad input -> non-zero exit with a message.
   EXPECT_NE(std::system((base + " --align affine 2>/dev/null").c_str()), 0);
   EXPECT_NE(std::system((base + " --max-dt abc 2>/dev/null").c_str()), 0);

@@ -137,7 +137,8 @@ TEST(SimMotion, HandheldFastRotatesUpToThreeDegreesPerFrame) {
 }
 
 TEST(SimMotion, StaticStartHoldsStillThenAcceleratesSmoothly) {
-  for (MotionKind m : {MotionKind::kRoom, MotionKind::kDrive, MotionKind::kSlider, MotionKind::kHandheldFast}) {
+  for (MotionKind m : {MotionKind::kRoom, MotionKind::kDrive, MotionKind::kSlider, MotionKind::kHandheldFast,
+                       MotionKind::kHighway}) {
     MotionPreset p = iraf_vo::motionPreset(m);
     p.traj.static_start_s = 2.0;
     const int still = static_cast<int>(2.0 * p.rate_hz);  // frames 0..still are at the pose of t = 0
@@ -160,7 +161,8 @@ TEST(SimMotion, StaticStartHoldsStillThenAcceleratesSmoothly) {
 }
 
 TEST(SimMotion, NamesAndBadParameters) {
-  for (MotionKind m : {MotionKind::kRoom, MotionKind::kDrive, MotionKind::kSlider, MotionKind::kHandheldFast}) {
+  for (MotionKind m : {MotionKind::kRoom, MotionKind::kDrive, MotionKind::kSlider, MotionKind::kHandheldFast,
+                       MotionKind::kHighway}) {
     MotionKind back;
     ASSERT_TRUE(iraf_vo::parseMotionKind(iraf_vo::toString(m), &back));
     EXPECT_EQ(back, m);

@@ -132,6 +132,22 @@ TEST(SimScenes, StreetTexturedFacadesAtThreeToFiftyMetres) {
   }
 }
 
+// The highway: the road is the only structure within ~15 m (a few posts and signs), most of the texture is tens
+// to hundreds of metres away (the forward-driving monocular start has little parallax).
+TEST(SimScenes, HighwayMostlyFarStructure) {
+  const SceneSetup s = makeSetup(MotionKind::kHighway);
+  for (int f : {0, 50, 99}) {
+    const FrameStats st = renderStats(s, f);
+    EXPECT_GT(st.textured, 0.2) << "frame " << f << ": sparse (the worn road), not empty";
+    EXPECT_LT(st.textured, 0.6) << "frame " << f;
+    EXPECT_LT(st.sky, 0.4) << "frame " << f;
+    EXPECT_LT(st.empty, 0.01) << "frame " << f;
+    EXPECT_LT(st.saturated, 0.15) << "frame " << f;
+    EXPECT_GT(quantile(st.depths, 0.05), 5.0) << "frame " << f << ": road from ~6 m";
+    EXPECT_GT(quantile(st.depths, 0.7), 30.0) << "frame " << f << ": mostly far";
+  }
+}
+
 // A repair patch or grime streak drawn at the tile's edge clips to an empty rectangle; adding to it must not throw
 // (`iraf_vo_simulate --motion drive --seed 23` stopped on OpenCV's "Can't reallocate empty Mat" here, 4096-texel
 // asphalt). At 16 texels per metre (512-texel tiles, the same 32 m) such a patch falls already at seed 8 (before the

@@ -18,6 +18,7 @@
 #include "iraf_vo/camera/camera_loader.h"
 #include "iraf_vo/io/image_folder.h"
 #include "iraf_vo/io/trajectory.h"
+#include "iraf_vo/sim/asl_degrade.h"
 #include "iraf_vo/sim/light_profile.h"
 #include "iraf_vo/sim/motion_preset.h"
 #include "iraf_vo/sim/photometric.h"

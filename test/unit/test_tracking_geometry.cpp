@@ -133,6 +133,7 @@ TEST(TrackingGeometry, TwoViewInitForwardMotion) {
   const double tdir = std::acos(std::clamp(r.t_21.normalized().dot(T2.translation().normalized()), -1.0, 1.0));
   EXPECT_LT(tdir * 180.0 / M_PI, 10.0);  // 1 m baseline, 0.5 px noise: the direction of t is weakly observed (~6 deg)
   p.min_parallax_points = 0;  // median rule
+  p.determined_parallax_points = 0;  // alone
   const TwoViewResult median_rule = initializeTwoView(b1, b2, cam.focal(), p);
   EXPECT_FALSE(median_rule.ok);
   EXPECT_NE(median_rule.reason.find("parallax too low"), std::string::npos) << median_rule.reason;

@@ -71,6 +71,12 @@ struct EvalResult {
   double scale = 1;     ///< alignment.s
   double gt_length = 0; ///< path length of the matched GT [m]
   ErrorStats ate;       ///< translation [m]
+  /// Metric view, whatever the mode (both from the same matched positions; valid when metric_valid):
+  /// the ATE RMSE after SE(3) alignment (scale fixed 1) and the scale Sim(3) alignment finds (1 = metric).
+  bool metric_valid = false;
+  double se3_ate_rmse = 0;
+  double sim3_scale = 1;
+  double sim3_ate_rmse = 0;
   ErrorStats rpe_trans; ///< [m] per delta
   ErrorStats rpe_rot;   ///< [deg] per delta
   std::vector<PoseError> per_pose;

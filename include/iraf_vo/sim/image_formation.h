@@ -41,8 +41,9 @@ class ImageFormation {
  public:
   /// `camera` (optional) gives each pixel's bearing for the flashlight's angle and the glare's world
   /// points; without it the flashlight's angle comes from the distance to the image centre (the half
-  /// angle at a quarter of the diagonal). Throws std::invalid_argument for a bad profile.
-  ImageFormation(const LightProfile& profile, CameraModelPtr camera);
+  /// angle at a quarter of the diagonal). `noise_stream` > 0 draws sensor noise independent of stream 0's
+  /// (the second camera of a stereo pair). Throws std::invalid_argument for a bad profile.
+  ImageFormation(const LightProfile& profile, CameraModelPtr camera, uint64_t noise_stream = 0);
 
   /// The world points of the glare lamps (simulator: hit points of the view's centre along the path).
   void setGlareLamps(const std::vector<Eigen::Vector3d>& lamps) { lamps_ = lamps; }
@@ -63,6 +64,12 @@ class ImageFormation {
                FrameLight* record = nullptr, const cv::Point2d& image_motion_px = cv::Point2d(0, 0),
                double frame_period_s = 0.05);
 
+  /// Forms frame `frame` like capture() but with the given exposure and without metering: the second
+  /// camera of a pair, which takes the exposure and gain the first camera's auto-exposure chose.
+  void captureWithExposure(int frame, const Exposure& exposure, const cv::Mat& radiance, const FrameGeometry* geometry,
+                           cv::Mat* out, FrameLight* record = nullptr,
+                           const cv::Point2d& image_motion_px = cv::Point2d(0, 0), double frame_period_s = 0.05) const;
+
   const LightProfile& profile() const { return profile_; }
 
  private:
@@ -77,6 +84,7 @@ class ImageFormation {
 
   LightProfile profile_;
   CameraModelPtr camera_;
+  uint64_t noise_stream_ = 0;
   SensorModel sensor_;
   AutoExposure ae_;
   std::vector<Eigen::Vector3d> lamps_;

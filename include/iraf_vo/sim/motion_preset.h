@@ -6,6 +6,7 @@
 //   drive          kitti 1241x376      10 Hz  100     3 x 2 ms                   street (128), 10 m/s
 //   slider         davis240 240x180    25 Hz  100     3 x 10 ms                  slider table (512), 0.25 m/s
 //   handheld_fast  pinhole | fisheye   20 Hz  300     4 x 8 ms                   room (256), <= 3 deg/frame
+//   highway        kitti 1241x376      10 Hz  100     3 x 2 ms                   highway (128), 10 m/s
 #pragma once
 
 #include <string>
@@ -26,7 +27,8 @@ struct MotionPreset {
                              // KITTI / EuRoC frames
 };
 
-/// The defaults of a motion (table above). traj.motion is set; every other trajectory field keeps its default.
+/// The defaults of a motion (table above). traj.motion is set (highway: also its drive_turn_* and
+/// drive_vibration_deg); every other trajectory field keeps its default.
 MotionPreset motionPreset(MotionKind motion);
 
 }  // namespace iraf_vo

@@ -58,6 +58,14 @@ class Renderer {
   bool castPixel(const Eigen::Isometry3d& T_W_C, const Eigen::Vector2d& uv, Eigen::Vector3d* p_W,
                  double* depth = nullptr) const;
 
+  /// Places this renderer's camera in a rig: every trajectory pose T_W_C0 (the rig's reference camera,
+  /// whose pose the trajectory gives) becomes T_W_C0 * T_C0_C (e.g. the right camera of a stereo pair).
+  void setPoseInRig(const Eigen::Isometry3d& T_C0_C);
+  /// This camera's pose at trajectory time t (the trajectory pose, moved by the rig offset).
+  Eigen::Isometry3d cameraPose(const TrajectoryParams& traj, double t) const;
+  /// T_C0_C set by setPoseInRig (identity by default).
+  const Eigen::Isometry3d& poseInRig() const { return T_C0_C_; }
+
   const CameraModel& camera() const { return *camera_; }
   const CameraModelPtr& cameraPtr() const { return camera_; }
   const Scene& scene() const { return *scene_; }
@@ -79,6 +87,8 @@ class Renderer {
   CameraModelPtr camera_;
   std::shared_ptr<const Scene> scene_;
   SimParams params_;
+  bool in_rig_ = false;
+  Eigen::Isometry3d T_C0_C_ = Eigen::Isometry3d::Identity();
   int w_ = 0, h_ = 0, ss_ = 1;
   // Per sub-pixel bearing (structure of arrays, row-major pixel, then sub-sample) and per pixel
   // angular footprint (rad) for the mip level; valid = 0 where unprojection failed.

@@ -1,5 +1,6 @@
 // Writing simulated sequences and degrading real ones (ROS-free): ASL/EuRoC folder layout
 //   OUT/mav0/cam0/data.csv, OUT/mav0/cam0/data/<ns>.png, OUT/mav0/cam0/sensor.yaml,
+//   stereo: OUT/mav0/cam1/ the same (right camera, same timestamps, sensor.yaml with T_BS = T_C0_C1),
 //   OUT/groundtruth.txt (TUM: "t[s] tx ty tz qx qy qz qw", T_W_C, seconds with 9 decimals),
 //   OUT/events.csv (photometric events, frame ranges).
 #pragma once
@@ -25,8 +26,9 @@ namespace iraf_vo {
 /// intrinsics to that resolution. Returns null and sets *error on failure.
 CameraModelPtr makeSimCamera(const std::string& camera, int width, int height, std::string* error);
 
-/// EuRoC/Kalibr sensor.yaml with T_BS identity and rate_hz.
-bool writeSensorYaml(const CameraModel& camera, double rate_hz, const std::string& path, std::string* error);
+/// EuRoC/Kalibr sensor.yaml with T_BS (the camera in the body frame; the simulator's body is cam0) and rate_hz.
+bool writeSensorYaml(const CameraModel& camera, double rate_hz, const std::string& path, std::string* error,
+                     const Eigen::Isometry3d& T_BS = Eigen::Isometry3d::Identity());
 
 /// "sec.nnnnnnnnn" from integer nanoseconds (exact, no floating point).
 std::string nsToSecondsString(int64_t ns);
@@ -41,8 +43,10 @@ struct SimFrame {
   int64_t stamp_ns = 0;
   Eigen::Isometry3d T_W_C = Eigen::Isometry3d::Identity();
   cv::Mat image;  // CV_8UC1
+  cv::Mat right_image;  // CV_8UC1, stereo simulations: cam1 (same exposure and gain, own sensor noise), else empty
   cv::Mat depth;  // CV_32FC1 z-depth (m) when SimParams::write_depth (or the light profile needs it), else empty
   FrameLight light;  // exposure, gain, scene light of the frame (light-profile simulations)
+  FrameLight right_light;  // the same for cam1 (stereo)
 };
 
 struct SimulateReport {
@@ -68,26 +72,14 @@ bool simulateSequence(const Renderer& renderer, const TrajectoryParams& traj, co
                       const std::string& out_dir, const std::function<void(const SimFrame&)>& on_frame,
                       SimulateReport* report, std::string* error);
 
-struct DegradeReport {
-  int images = 0;     // rows of data.csv
-  int written = 0;
-  int skipped = 0;    // missing/unreadable images (reported on stderr)
-  std::vector<std::string> copied;  // ground-truth / calibration files copied (relative paths)
-};
-
-/// Applies the photometric events to every image of the ASL sequence in_dir (mav0/cam0/data.csv +
-/// data/), writing out_dir with the same layout and timestamps; copies mav0/cam0/sensor.yaml, any
-/// groundtruth/ folder, mav0/state_groundtruth_estimate0/, the other mav0 sensors' csv/yaml files,
-/// and top-level files. Returns false (and sets *error) when in_dir has no mav0/cam0/data.csv.
-bool degradeAslSequence(const std::string& in_dir, const std::string& out_dir, const PhotometricParams& photometric,
-                        DegradeReport* report, std::string* error);
-
-/// The same with the camera model: each real 8-bit image is taken as linear radiance in DN at the
-/// profile's reference exposure, lit, blurred along the image motion (phase correlation with the previous
-/// image) by the exposure time beyond the reference, and exposed; also writes OUT/exposure.csv. The
-/// flashlight's angles come from mav0/cam0/sensor.yaml when it loads (no depth: no distance fall-off).
-bool degradeAslSequence(const std::string& in_dir, const std::string& out_dir, const LightProfile& light,
-                        DegradeReport* report, std::string* error);
+/// Stereo: the same, plus the right camera `right` (its Renderer::setPoseInRig gives T_C0_C1) rendered at
+/// the same times with the shutter open as long as the left's, formed with the exposure and gain the
+/// left camera's auto-exposure chose and its own sensor noise; writes OUT/mav0/cam1. Ground truth stays
+/// the left camera's. `right` null: monocular.
+bool simulateSequence(const Renderer& renderer, const Renderer* right, const TrajectoryParams& traj,
+                      const LightProfile& light, const std::string& out_dir,
+                      const std::function<void(const SimFrame&)>& on_frame, SimulateReport* report,
+                      std::string* error);
 
 /// Rows of an ASL data.csv: (timestamp ns, file name). Returns false when the file cannot be read.
 bool readAslCsv(const std::string& path, std::vector<std::pair<int64_t, std::string>>* rows, std::string* error);

@@ -5,6 +5,8 @@
 //   drive          a car on a street (KITTI-like): constant speed along a gently curving centreline
 //                  (S-curves, heading +-drive_turn_deg), camera 1.65 m above the road in the right lane,
 //                  looking forward, small pitch/roll vibrations.
+//   highway        the drive's car on a highway: the same pose model with wide curves (heading +-4 deg over
+//                  600 m), an open road with far structure (motionPreset sets the drive_* fields).
 //   slider         pure sideways translation on a linear slider (constant speed, back and forth over
 //                  slider_travel_m), fixed attitude looking at a table with near objects and a far wall.
 //   handheld_fast  the room loop with fast hand-held rotations (yaw/pitch/roll swings, up to ~3 deg per
@@ -19,11 +21,11 @@
 
 namespace iraf_vo {
 
-enum class MotionKind { kRoom = 0, kDrive = 1, kSlider = 2, kHandheldFast = 3 };
+enum class MotionKind { kRoom = 0, kDrive = 1, kSlider = 2, kHandheldFast = 3, kHighway = 4 };
 const char* toString(MotionKind m);
-/// Parses room | drive | slider | handheld_fast.
+/// Parses room | drive | slider | handheld_fast | highway.
 bool parseMotionKind(const std::string& s, MotionKind* m);
-/// "room|drive|slider|handheld_fast".
+/// "room|drive|slider|handheld_fast|highway".
 std::string motionKindNames();
 
 struct TrajectoryParams {
@@ -51,7 +53,7 @@ struct TrajectoryParams {
   double hand_pitch_deg = 7.0, hand_pitch_hz = 0.61;
   double hand_roll_deg = 5.0, hand_roll_hz = 0.33;
 
-  // drive (street along +x from the origin, z up)
+  // drive and highway (road along +x from the origin, z up)
   double drive_speed_mps = 10.0;      // 1 m per frame at 10 Hz
   double drive_height_m = 1.65;       // KITTI camera height
   double drive_lane_offset_m = -1.75; // camera left (+) / right (-) of the street centreline

@@ -196,6 +196,7 @@ class Map {
 
   long createPointLocked(const Eigen::Vector3d& p_w, Keyframe& a, int kp_a, Keyframe& b, int kp_b);
   long createStereoPointLocked(const Eigen::Vector3d& p_w, Keyframe& kf, int kp);
+  MapPoint& newPointLocked(const Eigen::Vector3d& p_w, Keyframe& kf, int kp);
   void erasePointLocked(long id);
   /// Moves gone's observations to keep (where keep has none in that keyframe) and erases gone (applyFusion).
   void mergePointsLocked(MapPoint* keep, MapPoint* gone);

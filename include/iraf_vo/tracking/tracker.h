@@ -76,8 +76,9 @@ struct TrackResult {
   long reference_keyframe_id = -1;
   Eigen::Isometry3d T_kf_c = Eigen::Isometry3d::Identity();
   std::vector<char> keypoint_inlier;  // per input keypoint: 1 = matched to a map point and a pose inlier
-  /// Covariance of T_w_c in the world frame, [x y z rx ry rz] (map units, radians), from the pose refinement's
-  /// information matrix with sigma = scale_factor^octave px per keypoint (valid when state == kTracking).
+  /// Covariance of T_w_c in the world frame, [x y z rx ry rz] (map units, radians): the pose refinement's
+  /// (sigma = scale_factor^octave px per keypoint) calibrated by the frame's variance factor and its deviation
+  /// from the motion model (calibratedPoseCovariance; valid when state == kTracking).
   Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Identity();
   double inlier_ratio = 0.0;  // inliers / matches of the final pose refinement
   double median_chi2 = 0.0;   // of the inliers

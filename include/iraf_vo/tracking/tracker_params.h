@@ -23,6 +23,12 @@ struct TrackerParams {
   double init_min_median_parallax_deg = 0.5;  // ... and the median point this much. A homography's median point
                                               // needs init_min_parallax_deg (a homography fitted to a non-planar
                                               // scene after 6 cm at 4-10 m showed 0.95 deg, E 0.2: wrong map)
+  int init_determined_parallax_points = 10;  // or, for an essential-matrix motion whose translation the ambiguity
+                                             // check finds determined: this many points with init_min_parallax_deg
+                                             // and no median test (forward driving past far structure: the few
+                                             // near points carry the parallax); 0 = off
+  double init_determined_min_chi2 = 60.0;  // ... determined: the ambiguity check's profile chi2 >= this (forward
+                                           // drives 106-220; hand-held bas-relief starts at 2-3 px noise 10-45)
   int init_min_triangulated = 60;
   double init_homography_ratio = 0.45;  // R_H threshold (ORB-SLAM)
   double init_ambiguity_max_chi2 = 9.21;  // translation-direction check of E inits (two_view_ambiguity.h): refused

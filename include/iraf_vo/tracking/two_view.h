@@ -15,7 +15,14 @@ struct TwoViewParams {
   int min_parallax_points = 50;    // fewer) have this parallax (ORB-SLAM); min_parallax_points 0 = the median
   double min_median_parallax_deg = 0.5;  // and the median point has this parallax. A homography's median point
                                          // needs min_parallax_deg.
+  int determined_parallax_points = 10;  // or (essential matrix, ambiguity check on): this many points have
+                                        // min_parallax_deg, no median test, and the translation must be
+                                        // determined: profile chi2 >= determined_min_chi2; 0 = off
+  double determined_min_chi2 = 60.0;
   int min_triangulated = 50;
+  // Refused when a pure rotation explains this share of the chosen model's inliers (within 2 threshold_px): a
+  // camera that only turns or stands still (a homography then decomposes into a spurious motion); 1 = no check.
+  double max_rotation_inlier_ratio = 0.95;
   double homography_ratio = 0.45;  // R_H = S_H / (S_H + S_F) above this -> homography (ORB-SLAM)
   double model_fallback_margin = 0.1;  // |R_H - homography_ratio| below this and the chosen model fails its
                                        // checks -> the other model is tried (0 = never)
@@ -36,7 +43,9 @@ struct TwoViewResult {
   std::vector<char> triangulated;       // per match
   int num_triangulated = 0;
   double median_parallax_deg = 0.0;
-  double parallax_deg = 0.0;       // the tested parallax (min_parallax_points-th largest, or the median)
+  double parallax_deg = 0.0;       // the tested parallax (min_parallax_points-th largest, or the median;
+                                   // few_parallax_points: the determined_parallax_points-th largest)
+  bool few_parallax_points = false;  // accepted by the determined_parallax_points test (the strict one failed)
   double score_h = 0.0, score_f = 0.0;
   double translation_profile_chi2 = -1.0;  // the ambiguity check's value (-1: not run)
 };

@@ -42,4 +42,11 @@ MotionAmbiguity findTranslationAmbiguity(const std::vector<Eigen::Vector2d>& p1,
                                          const Eigen::Matrix3d& R, const Eigen::Vector3d& t, double focal,
                                          const MotionAmbiguityParams& params);
 
+/// How many of the model's inliers (b1[i] <-> b2[i], inliers[i]) a pure rotation explains: the rotation fitted to
+/// them by Kabsch, refitted twice to its own inliers (angle between R b1 and b2, in pixels via focal, below
+/// 2 threshold_px). A camera that only turns or stands still: all of them; a translation with parallax: not the
+/// near points.
+int inliersOfPureRotation(const std::vector<Eigen::Vector3d>& b1, const std::vector<Eigen::Vector3d>& b2,
+                          const std::vector<char>& inliers, double focal, double threshold_px);
+
 }  // namespace iraf_vo
