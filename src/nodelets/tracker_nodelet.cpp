@@ -2,6 +2,8 @@
 // /diagnostics. Thin: converts messages and publishes what iraf_vo::TrackingSession (run rules: stamps, restarts,
 // anchor, trajectory, counters, warnings), iraf_vo::OdometryOutput (base frame, covariance, twist) and
 // run_monitor.h (missed frames, rates, status line) return. Calibration: ~camera_file or camera_info (CameraSource).
+// Stereo (~stereo): right/features paired with features by StereoFeatureInput; calibration ~camera_file +
+// ~right_camera_file (their T_BS) or camera_info + right/camera_info (R and P: stereoExtrinsicsFromCameraInfo).
 // Frames (REP-103 / REP-105; docs/ros_interface.md "Frames"): world_frame (default odom) = the base frame (~base_frame; empty = the
 // camera optical frame, as before) at the start of the map; child = base_frame (or the camera frame).
 #include <diagnostic_updater/diagnostic_updater.h>
@@ -27,6 +29,7 @@
 #include "iraf_vo/ros/tracking_conversion.h"
 #include "iraf_vo/tracking/tracker_params.h"
 #include "stage_nodelet.h"
+#include "stereo_feature_input.h"
 
 namespace iraf_vo {
 
@@ -84,6 +87,13 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     pnh.param("use_rectified", info_opts.use_rectified, false);
     pnh.param<std::string>("camera_file", camera_file, "");
     pnh.param("resolution_rule", resolution_rule_, true);
+    std::string right_camera_file;
+    StereoPairingParams pairing;
+    pnh.param("stereo", stereo_, false);
+    pnh.param<std::string>("right_camera_file", right_camera_file, "");
+    pnh.param("stereo_sync_tolerance", pairing.tolerance, pairing.tolerance);
+    pnh.param("stereo_max_wait", pairing.max_wait, pairing.max_wait);
+    use_rectified_ = info_opts.use_rectified;
     double input_timeout = 3.0;
     pnh.param("input_timeout", input_timeout, 3.0);
     watchdog_.setDeadAfter(input_timeout);
@@ -104,16 +114,37 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     updater_ = makeUpdater(nh, pnh, getName());
     updater_->add("tracking", this, &TrackerNodelet::diagnose);
     startReconfigure();  // its first callback: the startup values
-    camera_src_.start(nh, camera_file, info_opts, [this](CameraSource::Event e, const std::string& text) {
+    auto on_camera = [this](CameraSource::Event e, const std::string& text) {
       if (e == CameraSource::Event::kInvalid) NODELET_ERROR("tracker: %s", text.c_str());
       if (e == CameraSource::Event::kChanged) NODELET_WARN("tracker: %s: restarting the tracker (new map)", text.c_str());
-      if (e != CameraSource::Event::kInvalid) startSession(camera_src_.camera(), text);
-    });
+      if (e != CameraSource::Event::kInvalid) startSession(text);
+    };
+    if (stereo_) {
+      ros::NodeHandle right_nh(nh, "right");
+      right_camera_src_.start(right_nh, right_camera_file, info_opts, on_camera);
+      if (camera_file.empty() != right_camera_file.empty())
+        NODELET_ERROR("tracker: stereo: give both ~camera_file and ~right_camera_file, or neither (camera_info + "
+                      "right/camera_info); the one given is used, the other camera from its camera_info");
+    }
+    camera_src_.start(nh, camera_file, info_opts, on_camera);
     timer_ = nh.createWallTimer(ros::WallDuration(1.0), &TrackerNodelet::timerCb, this);
     sub_ = nh.subscribe("features", queue_size, &TrackerNodelet::featuresCb, this);
+    if (stereo_)
+      stereo_input_.start(nh, queue_size, pairing, [this](const FeaturesConstPtr& l, const FeaturesConstPtr& r) { track(l, r); },
+                          [this](const SessionMessage& m) {
+                            std::lock_guard<std::mutex> lock(mutex_);
+                            log(m);
+                          },
+                          [this](const FeaturesConstPtr&) {
+                            std::lock_guard<std::mutex> wlock(watchdog_mutex_);
+                            for (const SessionMessage& m : right_watchdog_.onFrame(ros::WallTime::now().toSec()))
+                              NODELET_INFO("tracker: %s", m.text.c_str());
+                          });
     {
       std::lock_guard<std::mutex> lock(watchdog_mutex_);
       watchdog_.arm(sub_.getTopic(), ros::WallTime::now().toSec());
+      right_watchdog_.setDeadAfter(input_timeout);
+      if (stereo_) right_watchdog_.arm(stereo_input_.rightTopic(), ros::WallTime::now().toSec());
     }
     // Silence on the features topic: an error after ~input_timeout s (the enhance nodelet warns about the camera).
     watchdog_timer_ = nh.createWallTimer(ros::WallDuration(0.1), [this](const ros::WallTimerEvent&) {
@@ -121,13 +152,23 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
       {
         std::lock_guard<std::mutex> lock(watchdog_mutex_);
         messages = watchdog_.check(ros::WallTime::now().toSec());
+        // The right camera's silence: a warning (the left frames go on alone meanwhile).
+        for (SessionMessage m : right_watchdog_.check(ros::WallTime::now().toSec()))
+          if (m.level == SessionMessage::Level::kError) m.level = SessionMessage::Level::kWarn, messages.push_back(m);
       }
-      for (const SessionMessage& m : messages)
+      for (const SessionMessage& m : messages) {
         if (m.level == SessionMessage::Level::kError) NODELET_ERROR("tracker: %s", m.text.c_str());
+        if (m.level == SessionMessage::Level::kWarn) NODELET_WARN("tracker: %s (tracking with the left camera)", m.text.c_str());
+      }
     });
   }
 
-  void startSession(const CameraModelPtr& cam, const std::string& why) {
+  // A camera configured or changed: a new session once every camera of the rig is known.
+  void startSession(const std::string& why) {
+    const CameraModelPtr cam = camera_src_.camera();
+    if (!cam || (stereo_ && !right_camera_src_.camera())) return;
+    StereoRig rig;
+    if (stereo_ && !makeRig(&rig)) return;
     if (resolution_rule_) {  // before mutex_: replaceParams takes the reconfigure lock, whose callback takes mutex_
       TrackerParams p = params();
       const std::string rule = applyTrackerResolutionRule(*cam, userSet(), &p);
@@ -137,7 +178,9 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     }
     std::lock_guard<std::mutex> lock(mutex_);
     NODELET_INFO("tracker: %s, world frame '%s'", why.c_str(), world_frame_.c_str());
-    session_ = std::make_unique<TrackingSession>(cam, params(), opts_);
+    session_ = stereo_ ? std::make_unique<TrackingSession>(rig, params(), opts_)
+                       : std::make_unique<TrackingSession>(cam, params(), opts_);
+    if (stereo_) NODELET_INFO("tracker: stereo, baseline %.4f m", rig.baseline());
     odom_out_.reset();
     path_ = nav_msgs::Path();
   }
@@ -166,7 +209,19 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     std::lock_guard<std::mutex> wlock(watchdog_mutex_);
     const HealthReport::Level l = watchdog_.level(now, &silence);
     if (l >= r.level && l != HealthReport::kOk) r.level = l, r.summary = silence;
+    if (stereo_) {
+      // A silent right camera is a WARN: the odometry goes on with the left one.
+      if (right_watchdog_.level(now, &silence) != HealthReport::kOk && r.level == HealthReport::kOk)
+        r.level = HealthReport::kWarn, r.summary = silence + " (tracking with the left camera only)";
+    }
     fillDiagnostics(r, d);
+    if (stereo_) {
+      const StereoCounters c = stereo_input_.counters();
+      d.add("stereo pairs", c.pairs);
+      d.add("left-only frames", c.left_only);
+      d.add("right frames dropped (unpaired)", c.dropped_right);
+      d.add("right camera", stereo_input_.rightMissing() ? "missing" : "ok");
+    }
   }
 
   bool hasListeners() override { return true; }  // the sink of the graph: always subscribed
@@ -213,21 +268,49 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     else NODELET_ERROR("tracker: %s", m.text.c_str());
   }
 
+  // The left (or only) camera's features: monitored on arrival, tracked at once (mono) or once paired (stereo).
   void featuresCb(const iraf_vo::FeaturesConstPtr& msg) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    const double now = ros::WallTime::now().toSec();
-    const int64_t stamp_ns = static_cast<int64_t>(msg->header.stamp.toNSec());
-    for (const SessionMessage& m : monitor_.onInput(now, stamp_ns, msg->rejected_before)) log(m);
     {
+      std::lock_guard<std::mutex> lock(mutex_);
+      const double now = ros::WallTime::now().toSec();
+      for (const SessionMessage& m : monitor_.onInput(now, msg->header.stamp.toNSec(), msg->rejected_before)) log(m);
       std::lock_guard<std::mutex> wlock(watchdog_mutex_);
       for (const SessionMessage& m : watchdog_.onFrame(now, monitor_.period())) NODELET_INFO("tracker: %s", m.text.c_str());
     }
+    if (stereo_) stereo_input_.addLeft(msg);  // calls track() when paired or when the left frame goes alone
+    else track(msg, nullptr);
+  }
+
+  /// The rig of the two configured cameras: T_r_l from the files' T_BS or from the two camera_info messages.
+  bool makeRig(StereoRig* rig) {
+    std::string err;
+    const CameraModelPtr left = camera_src_.camera(), right = right_camera_src_.camera();
+    bool ok = false;
+    if (camera_src_.usesFile() && right_camera_src_.usesFile()) {
+      ok = makeStereoRig(left, right, rig, &err);
+    } else {
+      rig->left = left;
+      rig->right = right;
+      ok = stereoExtrinsicsFromCameraInfo(camera_src_.cameraInfo(), right_camera_src_.cameraInfo(), use_rectified_,
+                                          &rig->T_r_l, &err) &&
+           (err = validate(*rig)).empty();
+    }
+    if (!ok) NODELET_ERROR("tracker: stereo: %s: not tracking", err.c_str());
+    return ok;
+  }
+
+  void track(const iraf_vo::FeaturesConstPtr& msg, const iraf_vo::FeaturesConstPtr& right_msg) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const double now = ros::WallTime::now().toSec();
+    const int64_t stamp_ns = static_cast<int64_t>(msg->header.stamp.toNSec());
     if (!session_) return;  // no calibration: timerCb reports why
-    FeatureFrame frame;
-    std::string err, warning;
+    FeatureFrame frame, right;
+    std::string err, warning, right_err;
     const bool ok = fromMsg(*msg, &frame, &err, &warning);
     if (!warning.empty()) NODELET_WARN_ONCE("tracker: %s", warning.c_str());
-    const SessionStep step = session_->process(stamp_ns, ok ? &frame : nullptr, err);
+    const bool right_ok = right_msg && fromMsg(*right_msg, &right, &right_err, &warning);
+    if (right_msg && !right_ok) NODELET_WARN_THROTTLE(5.0, "tracker: right features: %s", right_err.c_str());
+    const SessionStep step = session_->process(stamp_ns, ok ? &frame : nullptr, right_ok ? &right : nullptr, err);
     for (const SessionMessage& m : step.messages) log(m);
     if (step.time_jump) path_ = nav_msgs::Path();
     publishEvents(step, msg->header);
@@ -324,7 +407,7 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
   ros::ServiceServer save_srv_, reset_srv_;
   ros::WallTimer timer_, watchdog_timer_;
   std::mutex watchdog_mutex_;  // watchdog_ (frame callback, its timer, diagnostics)
-  InputWatchdog watchdog_{"features"};
+  InputWatchdog watchdog_{"features"}, right_watchdog_{"right features"};
   std::shared_ptr<tf2_ros::TransformBroadcaster> tf_;
   std::shared_ptr<tf2_ros::StaticTransformBroadcaster> static_tf_;
   tf2_ros::Buffer tf_buffer_;
@@ -337,7 +420,9 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
   double path_publish_period_ = 1.0;  // [s] /path is published at most this often (and by the 1 Hz timer)
   double status_period_ = 10.0;
   SessionOptions opts_;
-  CameraSource camera_src_;
+  CameraSource camera_src_, right_camera_src_;
+  bool stereo_ = false, use_rectified_ = false;
+  StereoFeatureInput stereo_input_;
 
   std::mutex mutex_;  // everything below: frame callback, reconfigure, services, timer
   std::unique_ptr<TrackingSession> session_;

@@ -62,13 +62,14 @@ void TrackingSession::createTracker(const Eigen::Isometry3d& anchor, SessionStep
   if (tracker_) ++restarts_, epoch_cause_ = "restart";
   tracker_.reset();  // joins the mapping thread of the old one
   try {
-    tracker_ = std::make_unique<Tracker>(camera_, pending_params_);
+    tracker_ = rig_ ? std::make_unique<Tracker>(*rig_, pending_params_)
+                    : std::make_unique<Tracker>(camera_, pending_params_);
   } catch (const std::exception& e) {
     step->messages.push_back({SessionMessage::Level::kError,
                               std::string("cannot create the tracker: ") + e.what() + "; keeping the previous parameters",
                               "error"});
     pending_params_ = params_;
-    tracker_ = std::make_unique<Tracker>(camera_, params_);
+    tracker_ = rig_ ? std::make_unique<Tracker>(*rig_, params_) : std::make_unique<Tracker>(camera_, params_);
   }
   params_ = tracker_->params();
   params_dirty_ = false;
@@ -77,7 +78,17 @@ void TrackingSession::createTracker(const Eigen::Isometry3d& anchor, SessionStep
   internal_resets_last_ = 0;
 }
 
+TrackingSession::TrackingSession(const StereoRig& rig, const TrackerParams& params, const SessionOptions& options)
+    : TrackingSession(rig.left, params, options) {
+  rig_ = std::make_unique<StereoRig>(rig);
+}
+
 SessionStep TrackingSession::process(int64_t stamp_ns, const FeatureFrame* frame, const std::string& frame_error) {
+  return process(stamp_ns, frame, nullptr, frame_error);
+}
+
+SessionStep TrackingSession::process(int64_t stamp_ns, const FeatureFrame* frame, const FeatureFrame* right,
+                                     const std::string& frame_error) {
   SessionStep step;
   // ---- stamp rules ----
   if (have_last_stamp_ && stamp_ns <= last_stamp_ns_) {
@@ -111,8 +122,16 @@ SessionStep TrackingSession::process(int64_t stamp_ns, const FeatureFrame* frame
   }
   restart_requested_ = false;
 
+  if (rig_ && right && (right->width != rig_->right->width() || right->height != rig_->right->height())) {
+    step.messages.push_back({SessionMessage::Level::kError,
+                             at + "right image " + std::to_string(right->width) + "x" + std::to_string(right->height) +
+                                 ", but the right camera is " + std::to_string(rig_->right->width()) + "x" +
+                                 std::to_string(rig_->right->height()) + ": tracked with the left image only",
+                             "error"});
+    right = nullptr;
+  }
   try {
-    step.result = tracker_->track(*frame);
+    step.result = rig_ ? tracker_->track(*frame, right) : tracker_->track(*frame);
   } catch (const std::exception& e) {
     tracker_.reset();
     return drop(&step, SessionMessage::Level::kError, at + e.what() + "; restarting the tracker"), step;

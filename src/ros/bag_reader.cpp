@@ -13,6 +13,7 @@
 #include <cstring>
 #include <set>
 
+#include "iraf_vo/common/file_util.h"
 #include "iraf_vo/io/image_folder.h"
 #include "iraf_vo/ros/bag_recovery.h"
 #include "iraf_vo/ros/image_conversion.h"
@@ -200,8 +201,61 @@ bool BagImageReader::next(ros::Time* stamp, cv::Mat* gray) {
   return false;
 }
 
+namespace {
+
+/// Writes the readable images of `reader` on `topic` (raw) or `topic`/compressed. Throws on bag errors; false +
+/// *error when an image cannot be encoded.
+bool writeCameraImages(AslImageReader* reader, rosbag::Bag* bag, const std::string& topic, const std::string& frame_id,
+                       const AslToBagOptions& o, size_t* n, std::string* error) {
+  const bool compressed = o.image_format != "raw";
+  const std::vector<int> encode_params =
+      o.image_format == "jpeg" ? std::vector<int>{cv::IMWRITE_JPEG_QUALITY, o.jpeg_quality} : std::vector<int>{};
+  ImageEntry e;
+  cv::Mat gray;
+  uint32_t seq = 0;
+  while (reader->next(&e, &gray)) {
+    if (compressed) {
+      sensor_msgs::CompressedImage msg;
+      msg.header.stamp.fromNSec(static_cast<uint64_t>(e.stamp_ns));
+      msg.header.frame_id = frame_id;
+      msg.header.seq = seq++;
+      msg.format = "mono8; " + o.image_format + " compressed mono8";
+      if (!cv::imencode(o.image_format == "png" ? ".png" : ".jpg", gray, msg.data, encode_params)) {
+        if (error) *error = e.path + ": cannot encode as " + o.image_format;
+        return false;
+      }
+      bag->write(topic + "/compressed", msg.header.stamp, msg);
+      ++*n;
+      continue;
+    }
+    sensor_msgs::Image msg;
+    msg.header.stamp.fromNSec(static_cast<uint64_t>(e.stamp_ns));
+    msg.header.frame_id = frame_id;
+    msg.header.seq = seq++;
+    msg.height = gray.rows;
+    msg.width = gray.cols;
+    msg.encoding = sensor_msgs::image_encodings::MONO8;
+    msg.is_bigendian = 0;
+    msg.step = gray.cols;
+    msg.data.resize(static_cast<size_t>(gray.rows) * gray.cols);
+    for (int r = 0; r < gray.rows; ++r) std::memcpy(&msg.data[static_cast<size_t>(r) * gray.cols], gray.ptr(r), gray.cols);
+    bag->write(topic, msg.header.stamp, msg);
+    ++*n;
+  }
+  return true;
+}
+
+bool absoluteTopic(const std::string& topic, std::string* error) {
+  if (!topic.empty() && topic[0] == '/') return true;
+  if (error) *error = "topic '" + topic + "' must be an absolute name (start with '/')";
+  return false;
+}
+
+}  // namespace
+
 size_t aslToBag(const std::string& asl_dir, const std::string& bag_path, const AslToBagOptions& o, std::string* error,
-                std::vector<std::string>* warnings) {
+                std::vector<std::string>* warnings, size_t* right_written) {
+  if (right_written) *right_written = 0;
   AslImageReader reader;
   std::string err;
   if (!reader.open(asl_dir, &err, o.camera)) {
@@ -209,12 +263,8 @@ size_t aslToBag(const std::string& asl_dir, const std::string& bag_path, const A
     return 0;
   }
   if (warnings) warnings->insert(warnings->end(), reader.warnings().begin(), reader.warnings().end());
-  if (o.topic.empty() || o.topic[0] != '/') {
-    if (error) *error = "topic '" + o.topic + "' must be an absolute name (start with '/')";
-    return 0;
-  }
-  const bool compressed = o.image_format == "png" || o.image_format == "jpeg";
-  if (!compressed && o.image_format != "raw") {
+  if (!absoluteTopic(o.topic, error)) return 0;
+  if (o.image_format != "png" && o.image_format != "jpeg" && o.image_format != "raw") {
     if (error) *error = "image format '" + o.image_format + "': expected raw, png or jpeg";
     return 0;
   }
@@ -222,10 +272,20 @@ size_t aslToBag(const std::string& asl_dir, const std::string& bag_path, const A
     if (error) *error = "jpeg quality " + std::to_string(o.jpeg_quality) + ": expected 1..100";
     return 0;
   }
-  const std::string topic = compressed ? o.topic + "/compressed" : o.topic;
-  const std::vector<int> encode_params =
-      o.image_format == "jpeg" ? std::vector<int>{cv::IMWRITE_JPEG_QUALITY, o.jpeg_quality} : std::vector<int>{};
-  size_t n = 0;
+  // The right camera of a stereo folder (DIR/mav0/<right_camera>/data.csv), when there is one.
+  AslImageReader right;
+  bool stereo = false;
+  if (!o.right_camera.empty() && o.right_camera != o.camera &&
+      isFile(reader.rootDir() + "/mav0/" + o.right_camera + "/data.csv")) {
+    if (!right.open(reader.rootDir(), &err, o.right_camera)) {
+      if (error) *error = err;
+      return 0;
+    }
+    if (!absoluteTopic(o.right_topic, error)) return 0;
+    if (warnings) warnings->insert(warnings->end(), right.warnings().begin(), right.warnings().end());
+    stereo = true;
+  }
+  size_t n = 0, n_right = 0;
   try {
     rosbag::Bag bag(bag_path, rosbag::bagmode::Write);
     if (o.compression == "bz2") bag.setCompression(rosbag::compression::BZ2);
@@ -234,46 +294,23 @@ size_t aslToBag(const std::string& asl_dir, const std::string& bag_path, const A
       if (error) *error = "compression '" + o.compression + "': expected none, bz2 or lz4";
       return 0;
     }
-    ImageEntry e;
-    cv::Mat gray;
     const size_t n_warn_before = reader.warnings().size();
-    while (reader.next(&e, &gray)) {
-      if (compressed) {
-        sensor_msgs::CompressedImage msg;
-        msg.header.stamp.fromNSec(static_cast<uint64_t>(e.stamp_ns));
-        msg.header.frame_id = o.frame_id;
-        msg.header.seq = static_cast<uint32_t>(n);
-        msg.format = "mono8; " + o.image_format + " compressed mono8";
-        if (!cv::imencode(o.image_format == "png" ? ".png" : ".jpg", gray, msg.data, encode_params)) {
-          if (error) *error = e.path + ": cannot encode as " + o.image_format;
-          return 0;
-        }
-        bag.write(topic, msg.header.stamp, msg);
-        ++n;
-        continue;
-      }
-      sensor_msgs::Image msg;
-      msg.header.stamp.fromNSec(static_cast<uint64_t>(e.stamp_ns));
-      msg.header.frame_id = o.frame_id;
-      msg.header.seq = static_cast<uint32_t>(n);
-      msg.height = gray.rows;
-      msg.width = gray.cols;
-      msg.encoding = sensor_msgs::image_encodings::MONO8;
-      msg.is_bigendian = 0;
-      msg.step = gray.cols;
-      msg.data.resize(static_cast<size_t>(gray.rows) * gray.cols);
-      for (int r = 0; r < gray.rows; ++r) std::memcpy(&msg.data[static_cast<size_t>(r) * gray.cols], gray.ptr(r), gray.cols);
-      bag.write(o.topic, msg.header.stamp, msg);
-      ++n;
-    }
+    if (!writeCameraImages(&reader, &bag, o.topic, o.frame_id, o, &n, error)) return 0;
     if (warnings)
       warnings->insert(warnings->end(), reader.warnings().begin() + n_warn_before, reader.warnings().end());
+    if (stereo) {
+      const size_t right_warn_before = right.warnings().size();
+      if (!writeCameraImages(&right, &bag, o.right_topic, o.right_frame_id, o, &n_right, error)) return 0;
+      if (warnings)
+        warnings->insert(warnings->end(), right.warnings().begin() + right_warn_before, right.warnings().end());
+    }
     bag.close();
   } catch (const std::exception& ex) {
     if (error) *error = bag_path + ": cannot write bag: " + ex.what();
     return 0;
   }
   if (n == 0 && error) *error = asl_dir + ": no readable image (see warnings)";
+  if (right_written) *right_written = n_right;
   return n;
 }
 

@@ -133,4 +133,38 @@ bool calibrationDiffers(const sensor_msgs::CameraInfo& a, const sensor_msgs::Cam
   return field != nullptr;
 }
 
+bool stereoExtrinsicsFromCameraInfo(const sensor_msgs::CameraInfo& left, const sensor_msgs::CameraInfo& right,
+                                    bool use_rectified, Eigen::Isometry3d* T_r_l, std::string* error) {
+  auto failed = [error](const std::string& msg) {
+    if (error) *error = "stereo camera_info: " + msg;
+    return false;
+  };
+  for (const sensor_msgs::CameraInfo* info : {&left, &right}) {
+    const std::string which = info == &left ? "left" : "right";
+    if (!nonFinite("P", info->P).empty() || !nonFinite("R", info->R).empty())
+      return failed(which + " P or R is not finite");
+    if (!(info->P[0] > 0.0) || !(info->P[5] > 0.0)) return failed(which + " P has no focal length (P[0], P[5])");
+  }
+  const double tx = right.P[3] / right.P[0] - left.P[3] / left.P[0];
+  const double ty = right.P[7] / right.P[5] - left.P[7] / left.P[5];
+  if (tx == 0.0 && ty == 0.0)
+    return failed("the right P has no baseline (P[3] = Tx = -fx * baseline is 0): not a stereo calibration; give "
+                  "~camera_file and ~right_camera_file with their T_BS instead");
+  Eigen::Matrix3d R_l = Eigen::Matrix3d::Identity(), R_r = Eigen::Matrix3d::Identity();
+  if (!use_rectified) {
+    R_l = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(left.R.data());
+    R_r = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(right.R.data());
+    if (allZero(left.R)) R_l.setIdentity();  // an unset R: the camera is its own rectified frame
+    if (allZero(right.R)) R_r.setIdentity();
+    for (const Eigen::Matrix3d* R : {&R_l, &R_r})
+      if ((*R * R->transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-3 || R->determinant() < 0)
+        return failed(std::string(R == &R_l ? "left" : "right") + " R is not a rotation");
+  }
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = R_r.transpose() * R_l;
+  T.translation() = R_r.transpose() * Eigen::Vector3d(tx, ty, 0.0);
+  *T_r_l = T;
+  return true;
+}
+
 }  // namespace iraf_vo

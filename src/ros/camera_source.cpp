@@ -67,6 +67,11 @@ CameraModelPtr CameraSource::camera() const {
   return camera_;
 }
 
+sensor_msgs::CameraInfo CameraSource::cameraInfo() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return have_info_ ? last_info_ : sensor_msgs::CameraInfo();
+}
+
 std::string CameraSource::reason() const {
   std::lock_guard<std::mutex> lock(mutex_);
   if (camera_) return "";

@@ -1,8 +1,10 @@
 // iraf_vo_asl_to_bag DIR OUT.bag [--topic /cam0/image_raw] [--frame-id cam0] [--camera cam0] [--compression none|bz2|lz4]
 //                    [--compressed[=png|jpeg]] [--jpeg-quality 1..100]
+//                    [--right-camera cam1] [--right-topic /cam1/image_raw] [--right-frame-id cam1]
 // Converts an ASL / EuRoC / TUM-VI image folder (DIR, DIR/mav0 or DIR/mav0/cam0) into a rosbag of mono8
 // sensor_msgs/Image messages stamped with the data.csv timestamps; --compressed writes sensor_msgs/CompressedImage
-// (png: lossless, default; jpeg) on TOPIC/compressed as recorded camera bags carry them.
+// (png: lossless, default; jpeg) on TOPIC/compressed as recorded camera bags carry them. A stereo folder (DIR/mav0/cam1
+// present) gets its right camera on --right-topic too.
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -25,6 +27,11 @@ int main(int argc, char** argv) {
                     "sensor_msgs/CompressedImage on TOPIC/compressed (png = lossless, default; or jpeg)");
   cli.option("--jpeg-quality", "Q", &opt.jpeg_quality, 1, 100,
              "JPEG quality (default " + std::to_string(opt.jpeg_quality) + ")");
+  cli.option("--right-camera", "NAME", &opt.right_camera,
+             "right camera folder, written too when it exists (default " + opt.right_camera + "; \"\" = never)");
+  cli.option("--right-topic", "T", &opt.right_topic, "right image topic (default " + opt.right_topic + ")");
+  cli.option("--right-frame-id", "ID", &opt.right_frame_id,
+             "right header frame_id (default " + opt.right_frame_id + ")");
   if (const int code = cli.parse(argc, argv); code >= 0) return code;
   if (!image_format.empty()) {
     if (image_format != "png" && image_format != "jpeg") {
@@ -36,16 +43,19 @@ int main(int argc, char** argv) {
   }
   std::string err;
   std::vector<std::string> warnings;
-  const size_t n = iraf_vo::aslToBag(dir, bag, opt, &err, &warnings);
+  size_t n_right = 0;
+  const size_t n = iraf_vo::aslToBag(dir, bag, opt, &err, &warnings, &n_right);
   for (size_t i = 0; i < warnings.size() && i < 20; ++i) std::fprintf(stderr, "warning: %s\n", warnings[i].c_str());
   if (warnings.size() > 20) std::fprintf(stderr, "warning: ... %zu more\n", warnings.size() - 20);
   if (n == 0) {
     std::fprintf(stderr, "iraf_vo_asl_to_bag: %s\n", err.c_str());
     return 1;
   }
-  const std::string topic = opt.image_format == "raw" ? opt.topic : opt.topic + "/compressed";
-  std::printf("wrote %zu %s images to %s on %s (frame_id %s, %zu skipped)\n", n,
-              opt.image_format == "raw" ? "mono8" : opt.image_format.c_str(), bag.c_str(), topic.c_str(),
-              opt.frame_id.c_str(), warnings.size());
+  const std::string suffix = opt.image_format == "raw" ? "" : "/compressed";
+  const std::string right = n_right == 0 ? "" : " and " + std::to_string(n_right) + " on " + opt.right_topic + suffix +
+                                                    " (frame_id " + opt.right_frame_id + ")";
+  std::printf("wrote %zu %s images to %s on %s (frame_id %s)%s, %zu skipped\n", n,
+              opt.image_format == "raw" ? "mono8" : opt.image_format.c_str(), bag.c_str(),
+              (opt.topic + suffix).c_str(), opt.frame_id.c_str(), right.c_str(), warnings.size());
   return 0;
 }

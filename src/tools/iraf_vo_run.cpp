@@ -1,4 +1,4 @@
-// iraf_vo_run --dataset DIR_OR_BAG [--topic T] [--camera sensor.yaml] --out traj.txt
+// iraf_vo_run --dataset DIR_OR_BAG [--topic T [--right-topic T --right-camera R.yaml]] [--camera sensor.yaml] --out traj.txt
 //             [--mode iraf|baseline|enhance|adaptive|culling|he|clahe] [--gt GT] [--stats stats.json]
 //             [--config params.yaml] [--first N] [--frames N] [--set section.key=value ...] [--quiet] [--stereo]
 // Offline monocular or (--stereo, ASL cam0 + cam1) stereo VO (no roscore): iraf_vo::OfflinePipeline (reader thread -> front-end thread) feeds the tracker
@@ -27,7 +27,7 @@
 namespace {
 
 struct Args {
-  std::string dataset, topic, camera_path, out, mode = "iraf", gt_path, stats_path, frame_log_path, out_final;
+  std::string dataset, topic, right_topic, right_camera_path, camera_path, out, mode = "iraf", gt_path, stats_path, frame_log_path, out_final;
   int first = 0, max_frames = -1;
   bool quiet = false, no_resolution_rule = false, stereo = false;
 };
@@ -40,6 +40,10 @@ int parseArgs(int argc, char** argv, Args* a, iraf_vo::PipelineParams* p) {
   cli.option("--dataset", "DIR_OR_BAG", &a->dataset,
              "ASL folder (DIR/mav0/cam0/data.csv) or a rosbag (.bag, needs --topic)");
   cli.option("--topic", "T", &a->topic, "image topic of a bag");
+  cli.option("--right-topic", "T", &a->right_topic,
+             "--stereo on a bag: the right image topic (paired with --topic by stamp, 5 ms)");
+  cli.option("--right-camera", "R.yaml", &a->right_camera_path,
+             "--stereo: the right camera yaml (default: the ASL folder's mav0/cam1/sensor.yaml)");
   cli.option("--camera", "sensor.yaml", &a->camera_path,
              "camera yaml (default: the ASL folder's mav0/cam0/sensor.yaml)");
   cli.option("--out", "traj.txt", &a->out, "TUM trajectory of every tracked frame, as published at each frame");
@@ -60,7 +64,8 @@ int parseArgs(int argc, char** argv, Args* a, iraf_vo::PipelineParams* p) {
              "final (BA-refined) pose, as ORB-SLAM / DSO result files are. With --gt both ATEs are printed.");
   cli.flag("--quiet", &a->quiet, "no progress line, no resolution-rule line");
   cli.flag("--stereo", &a->stereo,
-           "stereo VO on an ASL folder: cam0 (left, --camera) + mav0/cam1 (right, its sensor.yaml), metric\n"
+           "stereo VO on an ASL folder: cam0 (left, --camera) + mav0/cam1 (right, its sensor.yaml), or on a\n"
+           "bag with --right-topic and --right-camera; metric\n"
            "map from the first frame; frames without a cam1 image continue with the left camera");
   cli.flag("--no-resolution-rule", &a->no_resolution_rule,
            "keep the 752x480 defaults of the size-dependent fields (n_features, cell_size, n_levels,\n"
@@ -110,16 +115,17 @@ int main(int argc, char** argv) {
     for (const std::string& w : asl.warnings()) std::fprintf(stderr, "iraf_vo_run: %s\n", w.c_str());
     if (a.camera_path.empty()) a.camera_path = asl.sensorYamlPath();
   } else {
-    if (a.stereo)
-      return std::fprintf(stderr, "iraf_vo_run: --stereo reads ASL folders (cam0 + cam1); %s is not a folder\n",
-                          a.dataset.c_str()),
-             2;
+    if (a.stereo != !a.right_topic.empty() || (a.stereo && a.right_camera_path.empty()))
+      return std::fprintf(stderr, "iraf_vo_run: a stereo bag needs --stereo, --right-topic and --right-camera\n"), 2;
     if (a.topic.empty())
       return std::fprintf(stderr, "iraf_vo_run: --dataset %s is not a folder: a bag needs --topic\n",
                           a.dataset.c_str()),
              2;
     // The bag reader (libiraf_vo_ros.so) is loaded only here: runs on ASL folders never load the ROS libraries.
-    if (!(source = iraf_vo::openBagFrameSource(a.dataset, a.topic, &err)))
+    iraf_vo::BagSourceOptions bag_options;
+    bag_options.topic = a.topic;
+    bag_options.right_topic = a.right_topic;
+    if (!(source = iraf_vo::openBagFrameSource(a.dataset, bag_options, &err)))
       return std::fprintf(stderr, "iraf_vo_run: --dataset %s: %s\n", a.dataset.c_str(), err.c_str()), 1;
     if (!source->notice().empty()) std::fprintf(stderr, "iraf_vo_run: %s\n", source->notice().c_str());
   }
@@ -128,11 +134,12 @@ int main(int argc, char** argv) {
   if (!cam) return std::fprintf(stderr, "iraf_vo_run: --camera %s: %s\n", a.camera_path.c_str(), err.c_str()), 1;
   iraf_vo::StereoRig rig;
   if (a.stereo) {
-    if (!iraf_vo::loadStereoRig(a.camera_path, asl_right.sensorYamlPath(), &rig, &err))
+    if (a.right_camera_path.empty()) a.right_camera_path = asl_right.sensorYamlPath();
+    if (!iraf_vo::loadStereoRig(a.camera_path, a.right_camera_path, &rig, &err))
       return std::fprintf(stderr, "iraf_vo_run: --stereo: %s\n", err.c_str()), 1;
     if (rig.right->width() != cam->width() || rig.right->height() != cam->height())
       return std::fprintf(stderr, "iraf_vo_run: --stereo: %s is %dx%d, the left camera %dx%d\n",
-                          asl_right.sensorYamlPath().c_str(), rig.right->width(), rig.right->height(), cam->width(),
+                          a.right_camera_path.c_str(), rig.right->width(), rig.right->height(), cam->width(),
                           cam->height()),
              1;
     if (!a.quiet) std::fprintf(stderr, "iraf_vo_run: stereo, baseline %.4f m\n", rig.baseline());

@@ -8,6 +8,11 @@
 //   2. tumvi.launch bag:=... (fisheye): odometry and epoch 1.
 //   3. live.launch camera:=/camera transport:=raw camera_file:=... base_frame:=base_link camera_frame:=cam0
 //      publish_camera_tf:=true camera_xyz_ypr:=... fed by `rosbag play`: odometry of base_link, base_link -> cam0.
+//   4. tumvi_stereo.launch on a simulated stereo bag (iraf_vo_simulate --stereo; skipped while the simulator has no
+//      stereo rig): odometry.
+//   5. live_stereo.launch left:=/stereo/left right:=/stereo/right with the EuRoC yaml files, fed by `rosbag play` of
+//      a stereo bag of the shared EuRoC frames 0-59 (skipped when absent): odometry, the tracker in stereo mode.
+//   (euroc_stereo.launch: stereo.test.)
 #include <gtest/gtest.h>
 
 #include <nav_msgs/Odometry.h>
@@ -23,10 +28,12 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "common/child_process.h"
 #include "common/wait_for.h"
 #include "iraf_vo/TrackingEvent.h"
 #include "iraf_vo/io/trajectory.h"
 
+using iraf_vo::test::Child;
 using iraf_vo::test::waitFor;
 
 namespace {
@@ -43,39 +50,6 @@ std::string readFile(const std::string& path) {
   s << f.rdbuf();
   return s.str();
 }
-
-/// A process this test starts (its own process group), stopped with SIGINT like Ctrl-C.
-class Child {
- public:
-  Child(const std::string& cmd, const std::string& log) {
-    pid_ = fork();
-    if (pid_ == 0) {
-      setpgid(0, 0);
-      execl("/bin/sh", "sh", "-c", ("exec " + cmd + " > " + log + " 2>&1").c_str(), static_cast<char*>(nullptr));
-      _exit(127);
-    }
-  }
-  ~Child() { stop(); }
-  /// SIGINT, then up to `seconds` for a clean exit, then SIGKILL of the group.
-  void stop(double seconds = 30.0) {
-    if (pid_ <= 0) return;
-    kill(pid_, SIGINT);
-    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
-    int status = 0;
-    while (waitpid(pid_, &status, WNOHANG) == 0) {
-      if (ros::WallTime::now() > end) {
-        kill(-pid_, SIGKILL);
-        waitpid(pid_, &status, 0);
-        break;
-      }
-      ros::WallDuration(0.1).sleep();
-    }
-    pid_ = -1;
-  }
-
- private:
-  pid_t pid_ = -1;
-};
 
 struct Watch {
   ros::NodeHandle nh;
@@ -196,6 +170,50 @@ TEST(LaunchFiles, LiveCameraFedByABag) {
   }
   EXPECT_TRUE(waitFor([&] { return tf.canTransform("base_link", "cam0", ros::Time(0)); }, 5.0))
       << "no base_link -> cam0 from publish_camera_tf";
+}
+
+TEST(LaunchFiles, TumviStereoWithASimulatedStereoBag) {
+  const std::string dir = g_dir + "/tumvi_stereo", bag = dir + ".bag";
+  if (!sh(kBin + "/iraf_vo_simulate --help 2>&1 | grep -q -- --stereo"))
+    GTEST_SKIP() << "iraf_vo_simulate renders no stereo pair: no simulated stereo bag";
+  ASSERT_TRUE(sh(kBin + "/iraf_vo_simulate --preset clean --frames 120 --stereo --camera " + kConfig +
+                 "tumvi_cam0.yaml --out " + dir + " > " + dir + ".sim.log 2>&1") &&
+              sh(kBin + "/iraf_vo_asl_to_bag " + dir + " " + bag + " > " + dir + ".bag.log 2>&1"))
+      << readFile(dir + ".sim.log") << readFile(dir + ".bag.log");
+  Watch w;
+  const std::string log = g_dir + "/tumvi_stereo.log";
+  // The simulator's own rig (its cam1 sensor.yaml), not the real TUM-VI extrinsics of config/tumvi_cam1.yaml.
+  Child launch("roslaunch iraf_vo tumvi_stereo.launch bag:=" + bag + " delay:=2 camera_file:=" + dir +
+                   "/mav0/cam0/sensor.yaml right_camera_file:=" + dir + "/mav0/cam1/sensor.yaml",
+               log);
+  EXPECT_TRUE(waitFor([&] { return w.odomCount() >= 20; }, 90.0)) << "no odometry; " << readFile(log);
+  launch.stop();  // the log is complete once roslaunch exits
+  EXPECT_NE(readFile(log).find("tracker: stereo, baseline"), std::string::npos) << readFile(log);
+}
+
+TEST(LaunchFiles, LiveStereoFedByABag) {
+  const std::string euroc = std::string(IRAF_VO_SHARED_DIR) + "/data/euroc_mh01_600";
+  if (!sh("test -f " + euroc + "/mav0/cam1/data.csv"))
+    GTEST_SKIP() << euroc << " with cam1 is not there: no stereo bag to play";
+  // 60 frames of both cameras (ASL folder of links) -> a stereo bag -> rosbag play onto the live topics.
+  const std::string asl = g_dir + "/live_stereo", bag = asl + ".bag";
+  for (const std::string cam : {"cam0", "cam1"})
+    ASSERT_TRUE(sh("mkdir -p " + asl + "/mav0/" + cam + "/data && head -61 " + euroc + "/mav0/" + cam +
+                   "/data.csv > " + asl + "/mav0/" + cam + "/data.csv && tail -n +2 " + asl + "/mav0/" + cam +
+                   "/data.csv | cut -d, -f2 | tr -d '\\r' | xargs -I{} ln -s " + euroc + "/mav0/" + cam +
+                   "/data/{} " + asl + "/mav0/" + cam + "/data/{}"));
+  ASSERT_TRUE(sh(kBin + "/iraf_vo_asl_to_bag " + asl + " " + bag + " --topic /stereo/left/image_raw --right-topic "
+                 "/stereo/right/image_raw > " + asl + ".bag.log 2>&1")) << readFile(asl + ".bag.log");
+  Watch w;
+  const std::string log = g_dir + "/live_stereo.log";
+  Child launch("roslaunch iraf_vo live_stereo.launch transport:=raw camera_file:=" + kConfig +
+               "euroc_cam0.yaml right_camera_file:=" + kConfig + "euroc_cam1.yaml", log);
+  ros::WallDuration(3.0).sleep();  // the nodelets subscribe
+  Child player("rosbag play -q -r 0.5 " + bag, g_dir + "/live_stereo_play.log");
+  EXPECT_TRUE(waitFor([&] { return w.odomCount() >= 20; }, 90.0)) << "no odometry; " << readFile(log);
+  player.stop();
+  launch.stop();  // the log is complete once roslaunch exits
+  EXPECT_NE(readFile(log).find("tracker: stereo, baseline 0.110"), std::string::npos) << readFile(log);
 }
 
 int main(int argc, char** argv) {

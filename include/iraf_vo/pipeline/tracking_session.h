@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "iraf_vo/camera/camera_model.h"
+#include "iraf_vo/camera/stereo_rig.h"
 #include "iraf_vo/features/feature_frame.h"
 #include "iraf_vo/io/trajectory.h"
 #include "iraf_vo/tracking/tracker.h"
@@ -76,11 +77,18 @@ class TrackingSession {
  public:
   /// Throws std::invalid_argument for a null camera.
   TrackingSession(CameraModelPtr camera, const TrackerParams& params, const SessionOptions& options);
+  /// A stereo camera (validated by the caller; its left camera is the camera of the frames): stereo trackers.
+  TrackingSession(const StereoRig& rig, const TrackerParams& params, const SessionOptions& options);
   ~TrackingSession();
 
   /// One frame. `frame` null: it could not be decoded (`frame_error` says why): the stamp rules still apply, then it
   /// is dropped.
   SessionStep process(int64_t stamp_ns, const FeatureFrame* frame, const std::string& frame_error = "");
+  /// A stereo frame: `right` null = no right image for this frame (Tracker::track(left, nullptr)); a right frame of
+  /// another size than the right camera is not used (an error message says so). Monocular session: right ignored.
+  SessionStep process(int64_t stamp_ns, const FeatureFrame* frame, const FeatureFrame* right,
+                      const std::string& frame_error = "");
+  bool isStereo() const { return rig_ != nullptr; }
 
   /// New parameters (validated by the caller): applied at the next frame unless tracking, else at the next restart.
   void setParams(const TrackerParams& params);
@@ -106,6 +114,7 @@ class TrackingSession {
   void collectMap(SessionStep* step);
 
   CameraModelPtr camera_;
+  std::unique_ptr<StereoRig> rig_;  // null: monocular
   SessionOptions options_;
   TrackerParams params_, pending_params_;
   bool params_dirty_ = false, restart_requested_ = false;

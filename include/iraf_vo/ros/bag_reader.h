@@ -67,13 +67,19 @@ struct AslToBagOptions {
   /// image_transport's compressed plugin writes it (format "mono8; png compressed mono8").
   std::string image_format = "raw";
   int jpeg_quality = 95;              ///< 1..100, image_format jpeg
+  /// The right camera of a stereo folder: written too when DIR/mav0/<right_camera>/data.csv exists ("" = never),
+  /// on right_topic (same image_format) with right_frame_id.
+  std::string right_camera = "cam1";
+  std::string right_topic = "/cam1/image_raw";
+  std::string right_frame_id = "cam1";
 };
 
 /// Writes every readable image of an ASL folder (see AslImageReader) as mono8 sensor_msgs/Image (or
 /// CompressedImage, see AslToBagOptions::image_format) with header.stamp from data.csv and bag time = header stamp.
-/// Missing / unreadable images are skipped and listed in *warnings. Returns the number of images written;
-/// 0 + *error when nothing could be written.
+/// Missing / unreadable images are skipped and listed in *warnings. A stereo folder (options.right_camera present)
+/// also gets its right images (*right_written of them). Returns the number of left images written; 0 + *error when
+/// nothing could be written.
 size_t aslToBag(const std::string& asl_dir, const std::string& bag_path, const AslToBagOptions& options,
-                std::string* error, std::vector<std::string>* warnings = nullptr);
+                std::string* error, std::vector<std::string>* warnings = nullptr, size_t* right_written = nullptr);
 
 }  // namespace iraf_vo

@@ -5,6 +5,8 @@
 #pragma once
 
 #include <sensor_msgs/CameraInfo.h>
+
+#include <Eigen/Geometry>
 #include <string>
 
 #include "iraf_vo/camera/camera_model.h"
@@ -32,5 +34,14 @@ CameraModelPtr cameraFromCameraInfo(const sensor_msgs::CameraInfo& info, std::st
 /// True when a and b describe a different calibration (size, distortion model, D, K, R, P, binning, ROI);
 /// the header (stamp, frame_id, seq) is ignored. *what (optional) names the first differing field.
 bool calibrationDiffers(const sensor_msgs::CameraInfo& a, const sensor_msgs::CameraInfo& b, std::string* what = nullptr);
+
+/// The left -> right transform of a stereo pair from its two CameraInfo messages, as camera_calibration's stereo
+/// calibrator and stereo drivers write them (what stereo_image_proc relies on): R rotates each camera into the common
+/// rectified frame, the right P carries Tx = -fx' * baseline (P[3]) and Ty (P[7]). p_r = T_r_l * p_l with
+/// T_r_l = R_r^T * (R_l * p_l + t), t = (Tx / fx' - Tx_l / fx_l, Ty / fy' - Ty_l / fy_l, 0).
+/// use_rectified (the images are the rectified ones): both R are the identity. false + *error (naming the field)
+/// when the right P has no Tx / Ty (not a stereo calibration), fx' is 0 or an R is not a rotation.
+bool stereoExtrinsicsFromCameraInfo(const sensor_msgs::CameraInfo& left, const sensor_msgs::CameraInfo& right,
+                                    bool use_rectified, Eigen::Isometry3d* T_r_l, std::string* error);
 
 }  // namespace iraf_vo

@@ -42,6 +42,8 @@ class CameraSource {
   Event onCameraInfo(const sensor_msgs::CameraInfo& info, std::string* message);
 
   CameraModelPtr camera() const;
+  /// The camera_info message in use (camera_info mode, once configured; else an empty message).
+  sensor_msgs::CameraInfo cameraInfo() const;
   /// Why there is no camera yet ("" when there is one).
   std::string reason() const;
 
