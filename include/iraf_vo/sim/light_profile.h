@@ -5,7 +5,7 @@
 //
 //   clean        normal light, fixed exposure
 //   dark / overexposed / flicker / mixed   the photometric presets' light events, fixed exposure
-//   night        0.4 % of the normal light all along: long exposure, gain up to 64 (noise grows with it)
+//   night        1.5 % of the normal light all along: long exposure, high gain (noise grows with it)
 //   ae_hunting   normal light, auto-exposure loop too aggressive for its lag: exposure oscillating about
 //                0.4x-2.5x of the right one with a period under 1 s, clipping at the peaks
 //   light_switch the light goes off (5 % left) and on twice; the auto-exposure recovers after each switch
