@@ -8,8 +8,9 @@
 #                            report fails the run. Default: 1 when CI=true, else 0 (IRAF_VO_SANITIZE=0 opts out).
 #        IRAF_VO_SANITIZE_TOOLS=1  also builds the CLI tools with the sanitizers (test_bad_cli then runs them;
 #                            otherwise it skips them in build-asan/).
-#        IRAF_VO_TSAN=1      afterwards also builds the core + the tracking unit tests with ThreadSanitizer in
-#                            build-tsan/ (IRAF_VO_TSAN_BUILD_DIR) and runs them (the local-mapping thread); any
+#        IRAF_VO_TSAN=1      afterwards also builds the core + the unit tests that run threads with ThreadSanitizer
+#                            in build-tsan/ (IRAF_VO_TSAN_BUILD_DIR) and runs them (the local-mapping thread, the
+#                            offline pipeline's threads); any
 #                            data race report fails the run. Default: 1 when CI=true, else 0.
 #        IRAF_VO_FUZZ=1      afterwards also builds every libFuzzer target (test/fuzz) with clang in build-fuzz/
 #                            (IRAF_VO_FUZZ_BUILD_DIR) and runs each for IRAF_VO_FUZZ_SECONDS (default 5) s
@@ -78,9 +79,11 @@ if [ "$(default_on_in_ci "${IRAF_VO_SANITIZE:-}")" = 1 ]; then
   sanitizer_stage "ASan + UBSan" "${IRAF_VO_ASAN_BUILD_DIR:-$ROOT/build-asan}" ON gtest '^test_' ${targets[@]+"${targets[@]}"}
 fi
 
-# ThreadSanitizer: core + the tracking tests (tracking thread + local-mapping thread).
+# ThreadSanitizer: core + the tests that run threads: the tracking thread + the local-mapping thread
+# (test_tracking_roles, test_tracking_pipeline with mapping_thread on) and the offline pipeline's reader and
+# front-end threads (test_pipeline_frontend). Tests that track with mapping_thread off run one thread: not here.
 if [ "$(default_on_in_ci "${IRAF_VO_TSAN:-}")" = 1 ]; then
-  tsan_tests=(test_tracking_roles test_tracking_pipeline test_tracking_health test_tracking_e2e)
+  tsan_tests=(test_tracking_roles test_tracking_pipeline test_pipeline_frontend)
   export TSAN_OPTIONS="${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1:suppressions=$ROOT/test/sanitizers/tsan.supp}"
   tsan_regex="($(IFS='|'; echo "${tsan_tests[*]}"))\$"
   sanitizer_stage ThreadSanitizer "${IRAF_VO_TSAN_BUILD_DIR:-$ROOT/build-tsan}" thread "gtest_$tsan_regex" "^$tsan_regex"

@@ -9,6 +9,7 @@ OfflinePipeline::OfflinePipeline(FrameSource* source, const EnhanceParams& enhan
     : source_(source),
       options_(options),
       front_end_(enhance, features),
+      front_end_right_(enhance, features),
       read_queue_(options.queue_capacity),
       front_queue_(options.queue_capacity) {
   reader_ = std::thread([this] { readFrames(); });
@@ -61,6 +62,12 @@ void OfflinePipeline::runFrontEnd() {
         it.frame = front_end_.process(in.image.gray, in.image.stamp, &t);
         it.ms_enhance = t.ms_enhance;
         it.ms_features = t.ms_features;
+        if (options_.stereo && !in.image.right.empty() && in.image.right.size() == in.image.gray.size()) {
+          it.right = front_end_right_.process(in.image.right, in.image.stamp, &t);
+          it.has_right = true;
+          it.ms_enhance += t.ms_enhance;
+          it.ms_features += t.ms_features;
+        }
       } catch (const std::exception& e) {
         it.error = true;
         it.message = e.what();

@@ -86,6 +86,12 @@ std::string RunRecorder::summary(const RunTotals& t) const {
     s << "too dark: " << st.dark_frames << " frames in " << st.dark_events
       << " runs (lost, no pose, map kept); relocalized in the same map " << st.relocalizations
       << " times, at most " << st.frames_to_relocalize_max << " frames after the light returned\n";
+  if (t.stereo)
+    s << "stereo: baseline " << t.baseline << " m, stereo matches per frame with a right image "
+      << (st.frames > st.right_missing_frames ? static_cast<double>(st.stereo_matches_total) /
+                                                     (st.frames - st.right_missing_frames)
+                                               : 0.0)
+      << ", frames without a right image " << st.right_missing_frames << " (" << st.right_missing_events << " runs)\n";
   s << "wall " << t.wall_s << " s, " << fps(t)
     << " fps (reader, front-end, tracking and mapping threads in parallel); CPU " << t.cpu_s
     << " s = " << cpuMsPerFrame(t) << " ms/frame (all threads) -> <= " << 2000.0 / cpuMsPerFrame(t)
@@ -105,6 +111,9 @@ std::string RunRecorder::summary(const RunTotals& t) const {
   if (t.have_ate)
     s << "ATE (Sim3) RMSE " << t.ate.ate.rmse << " m, median " << t.ate.ate.median << " m, max " << t.ate.ate.max
       << " m over " << t.ate.n_matched << " poses (scale " << t.ate.scale << ", GT path " << t.ate.gt_length << " m)\n";
+  if (t.have_ate_se3)
+    s << "ATE (SE3) RMSE " << t.ate_se3.ate.rmse << " m, median " << t.ate_se3.ate.median << " m, max "
+      << t.ate_se3.ate.max << " m\n";
   if (t.have_ate && t.have_ate_final)
     s << "ATE after mapping (poses re-attached to their BA-refined keyframes, --out-final): RMSE "
       << t.ate_final.ate.rmse << " m, median " << t.ate_final.ate.median << " m\n";
@@ -144,6 +153,11 @@ bool RunRecorder::writeJson(const std::string& path, const RunTotals& t, std::st
     js << ",\n  \"ate_rmse\": " << t.ate.ate.rmse << ",\n  \"ate_median\": " << t.ate.ate.median
        << ",\n  \"ate_scale\": " << t.ate.scale << ",\n  \"ate_matched\": " << t.ate.n_matched;
   if (t.have_ate_final) js << ",\n  \"ate_final_rmse\": " << t.ate_final.ate.rmse;
+  if (t.stereo)
+    js << ",\n  \"stereo\": true,\n  \"baseline\": " << t.baseline << ",\n  \"stereo_matches_total\": "
+       << st.stereo_matches_total << ",\n  \"right_missing_frames\": " << st.right_missing_frames
+       << ",\n  \"right_missing_events\": " << st.right_missing_events;
+  if (t.have_ate_se3) js << ",\n  \"ate_se3_rmse\": " << t.ate_se3.ate.rmse;
   js << "\n}\n";
   return true;
 }

@@ -1,10 +1,11 @@
 // iraf_vo_run --dataset DIR_OR_BAG [--topic T] [--camera sensor.yaml] --out traj.txt
 //             [--mode iraf|baseline|enhance|adaptive|culling|he|clahe] [--gt GT] [--stats stats.json]
-//             [--config params.yaml] [--first N] [--frames N] [--set section.key=value ...] [--quiet]
-// Offline monocular VO (no roscore): iraf_vo::OfflinePipeline (reader thread -> front-end thread) feeds the tracker
+//             [--config params.yaml] [--first N] [--frames N] [--set section.key=value ...] [--quiet] [--stereo]
+// Offline monocular or (--stereo, ASL cam0 + cam1) stereo VO (no roscore): iraf_vo::OfflinePipeline (reader thread -> front-end thread) feeds the tracker
 // on this thread (BA on its own thread). Writes the TUM trajectory of every tracked frame and a summary (frames,
 // tracked %, lost events, map points, per-stage median / 95 % ms, ATE when --gt).
 #include <iraf_vo/camera/camera_loader.h>
+#include <iraf_vo/camera/stereo_rig.h>
 #include <iraf_vo/common/wall_clock.h>
 #include <iraf_vo/pipeline/command_line.h>
 #include <iraf_vo/eval/trajectory_eval.h>
@@ -28,7 +29,7 @@ namespace {
 struct Args {
   std::string dataset, topic, camera_path, out, mode = "iraf", gt_path, stats_path, frame_log_path, out_final;
   int first = 0, max_frames = -1;
-  bool quiet = false, no_resolution_rule = false;
+  bool quiet = false, no_resolution_rule = false, stereo = false;
 };
 
 /// Parameters: defaults -> mode -> --config -> --set. Exit code 0 / 2 when the run should not start, -1 otherwise.
@@ -58,6 +59,9 @@ int parseArgs(int argc, char** argv, Args* a, iraf_vo::PipelineParams* p) {
              "the trajectory after mapping: each tracked pose re-attached to its reference keyframe's\n"
              "final (BA-refined) pose, as ORB-SLAM / DSO result files are. With --gt both ATEs are printed.");
   cli.flag("--quiet", &a->quiet, "no progress line, no resolution-rule line");
+  cli.flag("--stereo", &a->stereo,
+           "stereo VO on an ASL folder: cam0 (left, --camera) + mav0/cam1 (right, its sensor.yaml), metric\n"
+           "map from the first frame; frames without a cam1 image continue with the left camera");
   cli.flag("--no-resolution-rule", &a->no_resolution_rule,
            "keep the 752x480 defaults of the size-dependent fields (n_features, cell_size, n_levels,\n"
            "search radii, init counts); default: derive the ones not given by --config / --set from the\n"
@@ -93,15 +97,23 @@ int main(int argc, char** argv) {
   if (stat(a.dataset.c_str(), &ds) != 0)
     return std::fprintf(stderr, "iraf_vo_run: --dataset %s: no such file or folder\n", a.dataset.c_str()), 1;
   iraf_vo::AslImageReader asl;
+  iraf_vo::AslImageReader asl_right;
   std::unique_ptr<iraf_vo::FrameSource> source;
   std::string err;
   if (S_ISDIR(ds.st_mode)) {
     if (!asl.open(a.dataset, &err))
       return std::fprintf(stderr, "iraf_vo_run: --dataset %s: %s\n", a.dataset.c_str(), err.c_str()), 1;
-    source = std::make_unique<iraf_vo::AslFrameSource>(&asl);
+    if (a.stereo && !asl_right.open(a.dataset, &err, "cam1"))
+      return std::fprintf(stderr, "iraf_vo_run: --stereo: no right camera in %s: %s\n", a.dataset.c_str(), err.c_str()),
+             1;
+    source = std::make_unique<iraf_vo::AslFrameSource>(&asl, a.stereo ? &asl_right : nullptr);
     for (const std::string& w : asl.warnings()) std::fprintf(stderr, "iraf_vo_run: %s\n", w.c_str());
     if (a.camera_path.empty()) a.camera_path = asl.sensorYamlPath();
   } else {
+    if (a.stereo)
+      return std::fprintf(stderr, "iraf_vo_run: --stereo reads ASL folders (cam0 + cam1); %s is not a folder\n",
+                          a.dataset.c_str()),
+             2;
     if (a.topic.empty())
       return std::fprintf(stderr, "iraf_vo_run: --dataset %s is not a folder: a bag needs --topic\n",
                           a.dataset.c_str()),
@@ -114,6 +126,17 @@ int main(int argc, char** argv) {
   if (a.camera_path.empty()) return std::fprintf(stderr, "iraf_vo_run: no camera: pass --camera sensor.yaml\n"), 2;
   const iraf_vo::CameraModelPtr cam = iraf_vo::loadCamera(a.camera_path, &err);
   if (!cam) return std::fprintf(stderr, "iraf_vo_run: --camera %s: %s\n", a.camera_path.c_str(), err.c_str()), 1;
+  iraf_vo::StereoRig rig;
+  if (a.stereo) {
+    if (!iraf_vo::loadStereoRig(a.camera_path, asl_right.sensorYamlPath(), &rig, &err))
+      return std::fprintf(stderr, "iraf_vo_run: --stereo: %s\n", err.c_str()), 1;
+    if (rig.right->width() != cam->width() || rig.right->height() != cam->height())
+      return std::fprintf(stderr, "iraf_vo_run: --stereo: %s is %dx%d, the left camera %dx%d\n",
+                          asl_right.sensorYamlPath().c_str(), rig.right->width(), rig.right->height(), cam->width(),
+                          cam->height()),
+             1;
+    if (!a.quiet) std::fprintf(stderr, "iraf_vo_run: stereo, baseline %.4f m\n", rig.baseline());
+  }
   if (!a.no_resolution_rule) {
     const std::string rule = iraf_vo::applyResolutionRule(*cam, &params);
     if (!a.quiet) std::fprintf(stderr, "iraf_vo_run: resolution rule: %s\n", rule.c_str());
@@ -129,6 +152,7 @@ int main(int argc, char** argv) {
   opts.width = cam->width();
   opts.height = cam->height();
   opts.camera_name = a.camera_path;
+  opts.stereo = a.stereo;
   const long n_run = std::max<long>(0, opts.last - opts.first);
 
   iraf_vo::RunRecorder recorder;
@@ -138,7 +162,11 @@ int main(int argc, char** argv) {
     return std::fprintf(stderr, "iraf_vo_run: --frame-log %s\n", err.c_str()), 1;
 
   // ---- reader thread -> front-end thread -> tracking (this thread) ----
-  iraf_vo::Tracker tracker(cam, params.tracker);
+  std::unique_ptr<iraf_vo::Tracker> tracker_ptr =
+      a.stereo ? std::make_unique<iraf_vo::Tracker>(rig, params.tracker)
+               : std::make_unique<iraf_vo::Tracker>(cam, params.tracker);
+  iraf_vo::Tracker& tracker = *tracker_ptr;
+  bool right_was_missing = false;
   const bool tty = isatty(fileno(stderr)) && !a.quiet;
   const auto t_start = iraf_vo::SteadyClock::now();
   iraf_vo::RunTotals totals;
@@ -153,7 +181,14 @@ int main(int argc, char** argv) {
         ++totals.read_errors;
         std::fprintf(stderr, "\niraf_vo_run: frame %ld skipped: %s\n", it.index, it.message.c_str());
       } else {
-        const iraf_vo::TrackResult r = tracker.track(it.frame);
+        const iraf_vo::TrackResult r =
+            a.stereo ? tracker.track(it.frame, it.has_right ? &it.right : nullptr) : tracker.track(it.frame);
+        if (a.stereo && r.right_missing != right_was_missing && r.right_missing)
+          std::fprintf(stderr, "\niraf_vo_run: right image missing from frame %ld: continuing with the left camera\n",
+                       it.index);
+        if (a.stereo && r.right_missing != right_was_missing && !r.right_missing)
+          std::fprintf(stderr, "\niraf_vo_run: right image back at frame %ld\n", it.index);
+        right_was_missing = r.right_missing;
         recorder.add(it, r, totals.processed);
         if (r.is_keyframe) recorder.updateKeyframes(tracker.keyframePoses());  // BA results arrive at keyframes
         if (!a.quiet)
@@ -181,6 +216,8 @@ int main(int argc, char** argv) {
     return std::fprintf(stderr, "iraf_vo_run: --out-final %s: %s\n", a.out_final.c_str(), err.c_str()), 1;
   totals.dataset = a.dataset;
   totals.mode = a.mode;
+  totals.stereo = a.stereo;
+  totals.baseline = a.stereo ? rig.baseline() : 0.0;
   totals.stats = tracker.stats();
   totals.map_points = tracker.mapPoints().size();
   totals.cpu_s = processCpuSeconds();
@@ -191,6 +228,10 @@ int main(int argc, char** argv) {
     totals.have_ate = iraf_vo::evaluateTrajectory(gt, recorder.trajectory(), evp, &totals.ate, &totals.ate_error);
     std::string final_error;
     totals.have_ate_final = iraf_vo::evaluateTrajectory(gt, final_trajectory, evp, &totals.ate_final, &final_error);
+    if (a.stereo) {  // metric: the SE(3)-aligned ATE as well
+      evp.align = iraf_vo::AlignMode::kSE3;
+      totals.have_ate_se3 = iraf_vo::evaluateTrajectory(gt, recorder.trajectory(), evp, &totals.ate_se3, &final_error);
+    }
   }
   std::fprintf(stdout, "%s", recorder.summary(totals).c_str());
   if (!a.stats_path.empty() && !recorder.writeJson(a.stats_path, totals, &err))

@@ -57,10 +57,19 @@ namespace {
 
 // Squared pixel error of every observation, -1 where the point does not project (reprojectionError2).
 std::vector<double> observationErrors2(const CameraModel& cam, const std::vector<BAKeyframe>& kfs,
-                                       const std::vector<BAPoint>& pts, const std::vector<BAObservation>& obs) {
+                                       const std::vector<BAPoint>& pts, const std::vector<BAObservation>& obs,
+                                       const BAOptions* stereo = nullptr) {
   std::vector<double> e2(obs.size());
-  for (size_t j = 0; j < obs.size(); ++j)
+  for (size_t j = 0; j < obs.size(); ++j) {
+    if (obs[j].right) {  // a right observation without a right camera does not project
+      e2[j] = stereo && stereo->right_camera
+                  ? reprojectionError2(*stereo->right_camera, stereo->T_r_l * kfs[obs[j].keyframe].T_c_w,
+                                       pts[obs[j].point].p_w, obs[j].uv)
+                  : -1.0;
+      continue;
+    }
     e2[j] = reprojectionError2(cam, kfs[obs[j].keyframe].T_c_w, pts[obs[j].point].p_w, obs[j].uv);
+  }
   return e2;
 }
 
@@ -143,7 +152,7 @@ bool solveWithSchurLM(const CameraModel& cam, const std::vector<BAKeyframe>& kfs
   std::vector<schur_lm::Residual> res;
   res.reserve(obs.size());
   for (size_t j = 0; j < obs.size(); ++j)
-    if (valid[j]) res.push_back({obs[j].keyframe, obs[j].point, obs[j].uv, 1.0 / obs[j].sigma});
+    if (valid[j]) res.push_back({obs[j].keyframe, obs[j].point, obs[j].uv, 1.0 / obs[j].sigma, obs[j].right});
   std::vector<char> fixed(kfs.size());
   for (size_t k = 0; k < kfs.size(); ++k) fixed[k] = kfs[k].fixed;
   schur_lm::Options so;
@@ -151,6 +160,9 @@ bool solveWithSchurLM(const CameraModel& cam, const std::vector<BAKeyframe>& kfs
   so.huber_delta = options.huber_delta;
   so.max_wall_seconds = options.max_solver_time_in_seconds;
   so.drop_points_behind = options.drop_points_behind;
+  so.right_camera = options.right_camera;
+  so.R_rl = options.T_r_l.linear();
+  so.t_rl = options.T_r_l.translation();
   AbortCallback cb(options.abort, options.max_cpu_seconds);
   if (options.abort || options.max_cpu_seconds > 0.0)
     so.stop = [&cb] { return cb(ceres::IterationSummary()) != ceres::SOLVER_CONTINUE; };
@@ -180,7 +192,7 @@ bool bundleAdjust(const CameraModel& cam, std::vector<BAKeyframe>* kfs, std::vec
   std::vector<double> points(3 * pts->size());
   for (size_t i = 0; i < pts->size(); ++i) (Eigen::Map<Eigen::Vector3d>(&points[3 * i])) = (*pts)[i].p_w;
   // Errors before the solve: which observations project, and the initial RMSE (the same values).
-  const std::vector<double> e2_initial = observationErrors2(cam, *kfs, *pts, obs);
+  const std::vector<double> e2_initial = observationErrors2(cam, *kfs, *pts, obs, &options);
   std::vector<char> valid(obs.size());
   int n_res = 0;
   for (size_t j = 0; j < obs.size(); ++j) {
@@ -191,14 +203,16 @@ bool bundleAdjust(const CameraModel& cam, std::vector<BAKeyframe>* kfs, std::vec
   bool ok = false;
   if (n_res > 0) {
     sum.initial_rmse_px = rmseOfErrors2(e2_initial);
-    ok = options.use_ceres ? solveWithCeres(cam, *kfs, pts->size(), obs, valid, options, &poses, &points, &sum)
+    // Right-camera observations: the Schur LM path (the Ceres cost has one camera).
+    const bool ceres = options.use_ceres && !options.right_camera;
+    ok = ceres ? solveWithCeres(cam, *kfs, pts->size(), obs, valid, options, &poses, &points, &sum)
                            : solveWithSchurLM(cam, *kfs, obs, valid, options, &poses, &points, &sum);
     if (ok) {
       for (size_t k = 0; k < kfs->size(); ++k)
         if (!(*kfs)[k].fixed) (*kfs)[k].T_c_w = blockToPose(&poses[7 * k]);
       for (size_t i = 0; i < pts->size(); ++i) (*pts)[i].p_w = Eigen::Map<Eigen::Vector3d>(&points[3 * i]);
     }
-    const std::vector<double> e2_final = observationErrors2(cam, *kfs, *pts, obs);
+    const std::vector<double> e2_final = observationErrors2(cam, *kfs, *pts, obs, &options);
     for (size_t j = 0; j < obs.size(); ++j) {
       const double e2 = e2_final[j], sigma = obs[j].sigma;
       sum.outlier[j] = e2 < 0 || e2 / (sigma * sigma) > options.chi2_threshold;

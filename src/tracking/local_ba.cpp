@@ -61,7 +61,7 @@ void holdScaleAboutAnchor(LocalBAProblem* prob, double baseline) {
 }
 
 // The map's side of the local BA: building the problem and merging the result, each under the map lock.
-LocalBAProblem buildLocalBAProblem(const Map& map, int window_size, double min_fixed_span) {
+LocalBAProblem buildLocalBAProblem(const Map& map, int window_size, double min_fixed_span, bool stereo) {
   LocalBAProblem prob;
   std::lock_guard<std::mutex> lk(map.mutex_);
   const auto& keyframes = map.keyframes_;
@@ -91,7 +91,7 @@ LocalBAProblem buildLocalBAProblem(const Map& map, int window_size, double min_f
     for (long pid : keyframe_of[static_cast<size_t>(w)]->point_id) {
       if (pid < 0 || !considered.insert(pid).second) continue;
       auto pt = points.find(pid);
-      if (pt == points.end() || pt->second->obs.size() < 2) continue;
+      if (pt == points.end() || pt->second->observations() < 2) continue;
       prob.point_ids.push_back(pid);
       prob.points.push_back({pt->second->p_w});
       point_of.push_back(pt->second.get());
@@ -120,7 +120,19 @@ LocalBAProblem buildLocalBAProblem(const Map& map, int window_size, double min_f
       const cv::KeyPoint& kp = kf.keypoints[o.second];
       prob.observations.push_back({kidx, static_cast<int>(pi), Eigen::Vector2d(kp.pt.x, kp.pt.y), kf.sigma(kp.octave)});
       prob.observation_keypoint.emplace_back(o.first, o.second);
+      if (!stereo || kf.right_obs.empty() || !(kf.right_obs[o.second].z() > 0.f)) continue;
+      const Eigen::Vector3f& r = kf.right_obs[o.second];
+      BAObservation right{kidx, static_cast<int>(pi), Eigen::Vector2d(r.x(), r.y()), r.z()};
+      right.right = true;
+      prob.observations.push_back(right);
+      prob.observation_keypoint.emplace_back(o.first, o.second);
     }
+  }
+  if (stereo) {  // 6-dof gauge: the scale is observed
+    const bool anchored = std::any_of(prob.keyframes.begin(), prob.keyframes.end(),
+                                      [](const BAKeyframe& k) { return k.fixed; });
+    if (!anchored && nwin >= 1) prob.keyframes[static_cast<size_t>(nwin - 1)].fixed = true;
+    return prob;
   }
   const bool anchored_outside = std::any_of(prob.keyframes.begin(), prob.keyframes.end(),
                                             [](const BAKeyframe& k) { return k.fixed; });
@@ -169,7 +181,7 @@ void applyLocalBA(const LocalBAProblem& prob, const BASummary& summary, Map* map
     }
   }
   for (size_t j = 0; j < prob.observations.size(); ++j) {
-    if (!summary.outlier[j]) continue;
+    if (!summary.outlier[j] || prob.observations[j].right) continue;  // a right outlier: the left one decides
     auto pt = points.find(prob.point_ids[prob.observations[j].point]);
     if (pt == points.end()) continue;
     const auto& [kf_id, kp] = prob.observation_keypoint[j];

@@ -27,9 +27,10 @@ LocalMapper::~LocalMapper() {
   if (thread_.joinable()) thread_.join();
 }
 
-long LocalMapper::addKeyframe(const Frame& f) {
+long LocalMapper::addKeyframe(const Frame& f, const std::vector<StereoMapPoint>& stereo) {
   waitUntilIdle();  // the running BA took its window before this keyframe exists (the same window every run)
   const long kf_id = map_->addKeyframe(f);
+  if (!stereo.empty()) map_->addStereoPoints(kf_id, stereo);
   acceptKeyframe(kf_id);
   return kf_id;
 }
@@ -168,7 +169,7 @@ void LocalMapper::fuseMapPoints(long kf_id) {
 
 void LocalMapper::localBundleAdjustment() {
   const double cpu0 = threadCpuMs();
-  LocalBAProblem prob = buildLocalBAProblem(*map_, p_.ba_window_size, p_.ba_min_fixed_span);
+  LocalBAProblem prob = buildLocalBAProblem(*map_, p_.ba_window_size, p_.ba_min_fixed_span, rig_ != nullptr);
   if (prob.observations.empty()) return;
   BAOptions options;
   options.max_num_iterations = p_.ba_max_num_iterations;
@@ -180,6 +181,10 @@ void LocalMapper::localBundleAdjustment() {
   options.huber_delta = p_.ba_huber_delta;
   options.use_ceres = p_.ba_use_ceres;
   options.abort = p_.mapping_thread ? &abort_ba_ : nullptr;
+  if (rig_) {
+    options.right_camera = rig_->right.get();
+    options.T_r_l = rig_->T_r_l;
+  }
   BASummary summary;
   const double before = windowExtent(prob);
   const double baseline = anchorBaseline(prob);

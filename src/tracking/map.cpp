@@ -16,6 +16,7 @@ std::shared_ptr<Keyframe> Keyframe::fromFrame(const Frame& f, const Eigen::Isome
   kf->descriptors = f.descriptors;
   kf->bearings = f.bearings;
   kf->valid = f.valid;
+  kf->right_obs = f.right_obs;
   kf->point_id.assign(f.keypoints.size(), -1);
   return kf;
 }
@@ -23,20 +24,57 @@ std::shared_ptr<Keyframe> Keyframe::fromFrame(const Frame& f, const Eigen::Isome
 // ---------------------------------------------------------------------------------------------
 // Creation
 // ---------------------------------------------------------------------------------------------
-long Map::createPointLocked(const Eigen::Vector3d& p_w, Keyframe& a, int kp_a, Keyframe& b, int kp_b) {
+// A new point created by keypoint kp of keyframe kf (its descriptor, octave and angle; its first observation).
+MapPoint& Map::newPointLocked(const Eigen::Vector3d& p_w, Keyframe& kf, int kp) {
   auto mp = std::make_shared<MapPoint>();
   mp->id = next_point_id_++;
   mp->p_w = p_w;
-  mp->desc = descriptorRow(a.descriptors, kp_a);
-  mp->octave = a.keypoints[kp_a].octave;
-  mp->angle = a.keypoints[kp_a].angle;
-  mp->obs[a.id] = kp_a;
-  mp->obs[b.id] = kp_b;
-  mp->first_kf = a.id;
-  a.point_id[kp_a] = mp->id;
-  b.point_id[kp_b] = mp->id;
+  mp->desc = descriptorRow(kf.descriptors, kp);
+  mp->octave = kf.keypoints[kp].octave;
+  mp->angle = kf.keypoints[kp].angle;
+  mp->obs[kf.id] = kp;
+  mp->first_kf = kf.id;
+  kf.point_id[kp] = mp->id;
   points_[mp->id] = mp;
-  return mp->id;
+  return *mp;
+}
+
+long Map::createPointLocked(const Eigen::Vector3d& p_w, Keyframe& a, int kp_a, Keyframe& b, int kp_b) {
+  MapPoint& mp = newPointLocked(p_w, a, kp_a);
+  mp.obs[b.id] = kp_b;
+  b.point_id[kp_b] = mp.id;
+  return mp.id;
+}
+
+long Map::createStereoPointLocked(const Eigen::Vector3d& p_w, Keyframe& kf, int kp) {
+  MapPoint& mp = newPointLocked(p_w, kf, kp);
+  mp.stereo_obs = 1;  // the right image of the same keyframe
+  return mp.id;
+}
+
+bool Map::createStereoMap(const KeyframePtr& kf, const std::vector<StereoMapPoint>& points, int min_points,
+                          int* created) {
+  std::lock_guard<std::mutex> lk(mutex_);
+  *created = static_cast<int>(points.size());
+  if (*created < min_points) return false;
+  kf->id = next_keyframe_id_++;
+  for (const StereoMapPoint& sp : points) createStereoPointLocked(sp.p_w, *kf, sp.kp);
+  keyframes_[kf->id] = kf;
+  return true;
+}
+
+int Map::addStereoPoints(long kf_id, const std::vector<StereoMapPoint>& points) {
+  std::lock_guard<std::mutex> lk(mutex_);
+  auto k = keyframes_.find(kf_id);
+  if (k == keyframes_.end()) return 0;
+  int n = 0;
+  for (const StereoMapPoint& sp : points) {
+    if (sp.kp < 0 || sp.kp >= static_cast<int>(k->second->point_id.size()) || k->second->point_id[sp.kp] >= 0)
+      continue;
+    recent_points_.push_back(createStereoPointLocked(sp.p_w, *k->second, sp.kp));
+    ++n;
+  }
+  return n;
 }
 
 bool Map::createInitialMap(const KeyframePtr& kf0, const KeyframePtr& kf1, const std::vector<NewMapPoint>& points,
@@ -164,7 +202,7 @@ int Map::trackedPoints(long kf_id, size_t min_observations) const {
   for (long pid : it->second->point_id) {
     if (pid < 0) continue;
     auto pt = points_.find(pid);
-    if (pt != points_.end() && pt->second->obs.size() >= min_observations) ++n;
+    if (pt != points_.end() && pt->second->observations() >= min_observations) ++n;
   }
   return n;
 }
@@ -212,7 +250,7 @@ void Map::cullRecentPoints(long current_kf, double min_found_ratio) {
     const long age = current_kf - mp.first_kf;
     if (static_cast<double>(mp.found) / std::max(1, mp.visible) < min_found_ratio) {
       erasePointLocked(pid);
-    } else if (age >= 2 && mp.obs.size() <= 2) {
+    } else if (age >= 2 && mp.observations() <= 2) {
       erasePointLocked(pid);
     } else if (age < 3) {
       keep.push_back(pid);

@@ -34,8 +34,8 @@ using Vec6 = Eigen::Matrix<double, 6, 1>;
 class Solver {
  public:
   Solver(const CameraModel& cam, const std::vector<char>& fixed, const std::vector<Residual>& res, size_t num_points,
-         double huber_delta)
-      : cam_(cam), res_(res), b_(huber_delta) {
+         const Options& options)
+      : cam_(cam), o_(options), res_(res), b_(options.huber_delta) {
     const int np = static_cast<int>(fixed.size());
     free_index_.assign(np, -1);
     for (int k = 0; k < np; ++k)
@@ -105,14 +105,17 @@ class Solver {
         const Residual& r = res_[j];
         const Eigen::Matrix3d& R = R_[r.pose];
         const Eigen::Vector3d Rp = R * p;
-        const Eigen::Vector3d pc = Rp + Eigen::Map<const Eigen::Vector3d>(poses + 7 * r.pose);
+        Eigen::Vector3d pc = Rp + Eigen::Map<const Eigen::Vector3d>(poses + 7 * r.pose);
         Eigen::Vector2d uv;
         Eigen::Matrix<double, 2, 3> J;
-        if (pc.z() <= 1e-6 || !cam_.project(pc, &uv, linearize ? &J : nullptr)) {
+        const CameraModel& cam = r.right ? *o_.right_camera : cam_;
+        if (r.right) pc = o_.R_rl * pc + o_.t_rl;
+        if (pc.z() <= 1e-6 || !cam.project(pc, &uv, linearize ? &J : nullptr)) {
           if (!failed || linearize) return false;
           failed->push_back(static_cast<int>(i));
           break;
         }
+        if (r.right && linearize) J = J * o_.R_rl;  // d pi_r / d (the left camera's point)
         const Eigen::Vector2d e = (uv - r.uv) * r.inv_sigma;
         const double s = e.squaredNorm();
         double w = 1.0;
@@ -237,6 +240,7 @@ class Solver {
 
  private:
   const CameraModel& cam_;
+  const Options& o_;
   const std::vector<Residual>& res_;
   double b_;
   int nf_ = 0;
@@ -260,7 +264,7 @@ bool solve(const CameraModel& cam, std::vector<double>* poses, const std::vector
   Summary& sum = *summary;
   sum = Summary();
   const size_t num_points = points->size() / 3;
-  Solver solver(cam, fixed, residuals, num_points, o.huber_delta);
+  Solver solver(cam, fixed, residuals, num_points, o);
   double cost;
   if (!solver.evaluate(poses->data(), points->data(), true, &cost)) return false;
   solver.setScaling();

@@ -22,6 +22,7 @@ struct Residual {
   int point = 0;
   Eigen::Vector2d uv = Eigen::Vector2d::Zero();
   double inv_sigma = 1.0;
+  bool right = false;  // observed by the right camera of a stereo rig: pi_r(R_rl (R p_w + t) + t_rl) (Options)
 };
 
 struct Options {
@@ -34,6 +35,9 @@ struct Options {
   double max_wall_seconds = 0.0;      // > 0: stop after this much wall time
   bool drop_points_behind = true;     // a point a step moves behind a camera leaves the problem; false: Ceres' rule
   std::function<bool()> stop;         // asked after every iteration (incl. the initial evaluation): true = stop
+  const CameraModel* right_camera = nullptr;  // stereo: the camera of the `right` residuals
+  Eigen::Matrix3d R_rl = Eigen::Matrix3d::Identity();  // stereo: left camera -> right camera
+  Eigen::Vector3d t_rl = Eigen::Vector3d::Zero();
 };
 
 enum class Termination { kConvergence, kMaxIterations, kStopped, kTimeLimit, kFailure };

@@ -13,6 +13,7 @@
 #include "iraf_vo/tracking/pose_tracker.h"
 #include "iraf_vo/tracking/relocalizer.h"
 #include "iraf_vo/tracking/signal_check.h"
+#include "iraf_vo/tracking/stereo_matcher.h"
 
 #include <algorithm>
 #include <atomic>
@@ -34,6 +35,7 @@ const char* toString(TrackingState s) {
 
 struct Tracker::Impl {
   CameraModelPtr cam;
+  StereoRig rig;  // rig.right == nullptr: monocular
   const TrackerParams p;
   Map map;
   LocalMapper mapper;
@@ -42,6 +44,7 @@ struct Tracker::Impl {
   TrackingHealthMonitor health;
   SignalCheck signal;
   Relocalizer relocalizer;
+  std::unique_ptr<StereoMatcher> stereo;  // null: monocular
 
   mutable std::mutex stats_mutex;
   TrackerStats stats;  // guarded by stats_mutex (the mapper keeps its BA stats)
@@ -62,9 +65,15 @@ struct Tracker::Impl {
   Eigen::Isometry3d last_good_T_w_c = Eigen::Isometry3d::Identity();
   double last_median_depth = 1.0;
   bool last_dark = false;  // the previous frame was too dark
+  std::vector<StereoMatch> stereo_matches;  // of the current frame (empty without a right image)
+  bool last_right_missing = false;
 
-  Impl(CameraModelPtr c, const TrackerParams& params)
-      : cam(std::move(c)), p(params), mapper(*cam, p, &map), initializer(*cam, p), pose_tracker(*cam, p), health(p), signal(p), relocalizer(*cam, p) {}
+  Impl(CameraModelPtr c, const TrackerParams& params, const StereoRig& stereo_rig = StereoRig())
+      : cam(std::move(c)), rig(stereo_rig), p(params), mapper(*cam, p, &map), initializer(*cam, p), pose_tracker(*cam, p), health(p), signal(p), relocalizer(*cam, p) {
+    if (!rig.right) return;
+    stereo = std::make_unique<StereoMatcher>(rig, p);
+    mapper.setStereo(&rig);
+  }
 
   template <class F>
   void updateStats(F&& f) {
@@ -72,8 +81,10 @@ struct Tracker::Impl {
     f(stats);
   }
 
-  TrackResult track(const FeatureFrame& in);
+  TrackResult track(const FeatureFrame& in, const FeatureFrame* right = nullptr);
+  void matchStereo(Frame& cur, const FeatureFrame* right, TrackResult* res);
   bool initializeMap(Frame& cur, TrackResult* res);
+  bool initializeStereo(Frame& cur, TrackResult* res);
   bool trackWithMotionModel(Frame& cur, TrackResult* res);
   Eigen::Isometry3d lastPose() const;
   bool trackFrom(Frame& cur, const Eigen::Isometry3d& T_last, const Eigen::Isometry3d& T_predicted, TrackResult* res);
@@ -94,7 +105,7 @@ struct Tracker::Impl {
   }
 };
 
-TrackResult Tracker::Impl::track(const FeatureFrame& in) {
+TrackResult Tracker::Impl::track(const FeatureFrame& in, const FeatureFrame* right) {
   const auto t_start = SteadyClock::now();
   TrackResult res;
   Frame cur;
@@ -114,6 +125,7 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in) {
     return darkFrame(t_start, res);
   }
   signal.lightFrame();
+  if (stereo) matchStereo(cur, right, &res);
 
   if (state == TrackingState::kNotInitialized || state == TrackingState::kInitializing) {
     t0 = SteadyClock::now();
@@ -130,9 +142,10 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in) {
     res.initialized_now = true;
     signal.restart();
     health.restart();
-    updateStats([](TrackerStats& s) {
+    const int new_keyframes = res.stereo ? 1 : 2;  // a stereo map starts from one keyframe
+    updateStats([new_keyframes](TrackerStats& s) {
       s.initializations++;
-      s.keyframes += 2;
+      s.keyframes += new_keyframes;
     });
     mapper.acceptKeyframe(last_kf_id);
     onTracked(cur, &res, true);  // before the mapper can move the keyframe: the last frame follows its BA
@@ -177,7 +190,55 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in) {
   return res;
 }
 
+// Stereo: the right image's matches (empty without one); a missing right image is counted once per frame.
+void Tracker::Impl::matchStereo(Frame& cur, const FeatureFrame* right, TrackResult* res) {
+  const auto t0 = SteadyClock::now();
+  stereo_matches.clear();
+  const bool have_right = right && stereo->matchRight(&cur, *right, &stereo_matches);
+  res->timing.ms_match += msSince(t0);
+  res->right_missing = !have_right;
+  const bool new_run = !have_right && !last_right_missing;
+  last_right_missing = !have_right;
+  if (!have_right) {
+    updateStats([new_run](TrackerStats& s) {
+      s.right_missing_frames++;
+      if (new_run) s.right_missing_events++;
+    });
+    return;
+  }
+  res->stereo = true;
+  res->stereo_matches = static_cast<int>(stereo_matches.size());
+  updateStats([n = stereo_matches.size()](TrackerStats& s) {
+    s.stereo_matches_last = static_cast<long>(n);
+    s.stereo_matches_total += static_cast<long>(n);
+  });
+}
+
+// Stereo: a metric map from this frame alone (one keyframe, the points of its left-right matches), at the last
+// good pose after a loss.
+bool Tracker::Impl::initializeStereo(Frame& cur, TrackResult* res) {
+  cur.T_c_w = have_last_good ? last_good_T_w_c.inverse() : Eigen::Isometry3d::Identity();
+  std::fill(cur.point_id.begin(), cur.point_id.end(), -1);
+  auto kf = Keyframe::fromFrame(cur, cur.T_c_w);
+  int points = 0;
+  if (!map.createStereoMap(kf, stereoMapPoints(stereo_matches, cur, false), p.stereo_init_min_points, &points)) {
+    res->init_status = "stereo: too few left-right matches (" + std::to_string(points) + " < " +
+                       std::to_string(p.stereo_init_min_points) + ")";
+    return false;
+  }
+  initializer.clearReference();
+  cur.point_id = kf->point_id;
+  last_kf_id = kf->id;
+  res->inliers = points;
+  res->is_keyframe = true;
+  res->inlier_ratio = 1.0;
+  res->covariance = worldPoseCovariance(initialPoseInformation(cur), cur.T_c_w);
+  have_velocity = false;
+  return true;
+}
+
 bool Tracker::Impl::initializeMap(Frame& cur, TrackResult* res) {
+  if (stereo && res->stereo) return initializeStereo(cur, res);
   MapAnchor anchor;
   if (have_last_good) {  // after a loss: continue at the last good pose with the last median depth
     anchor.T_w_ref = last_good_T_w_c;
@@ -303,7 +364,8 @@ bool Tracker::Impl::addKeyframeIfNeeded(const Frame& cur, TrackResult* res) {
   if (c.frames_since_keyframe >= p.min_frames_between_keyframes)
     c.reference_tracked = map.trackedPoints(last_kf_id, 2);
   if (!needNewKeyframe(c, p)) return false;
-  last_kf_id = mapper.addKeyframe(cur);  // mapped right here: the next frames match its new points
+  // mapped right here: the next frames match its new points (stereo: its close points first)
+  last_kf_id = mapper.addKeyframe(cur, stereoMapPoints(stereo_matches, cur, true));
   updateStats([](TrackerStats& s) { s.keyframes++; });
   frames_since_kf = 0;
   res->is_keyframe = true;
@@ -379,11 +441,23 @@ Tracker::Tracker(CameraModelPtr camera, const TrackerParams& params) {
   const std::string err = validate(params);
   if (!err.empty()) throw std::invalid_argument("Tracker: " + err);
   impl_ = std::make_unique<Impl>(std::move(camera), params);
+  impl_->rig.left = impl_->cam;
+}
+
+Tracker::Tracker(const StereoRig& rig, const TrackerParams& params) {
+  std::string err = validate(rig);
+  if (!err.empty()) throw std::invalid_argument("Tracker: " + err);
+  err = validate(params);
+  if (!err.empty()) throw std::invalid_argument("Tracker: " + err);
+  impl_ = std::make_unique<Impl>(rig.left, params, rig);
 }
 
 Tracker::~Tracker() = default;
 
 TrackResult Tracker::track(const FeatureFrame& frame) { return impl_->track(frame); }
+TrackResult Tracker::track(const FeatureFrame& left, const FeatureFrame* right) { return impl_->track(left, right); }
+bool Tracker::isStereo() const { return impl_->rig.right != nullptr; }
+const StereoRig& Tracker::rig() const { return impl_->rig; }
 std::vector<Eigen::Vector3d> Tracker::mapPoints() const { return impl_->map.pointPositions(); }
 std::vector<KeyframePose> Tracker::keyframePoses() const { return impl_->map.keyframePoses(); }
 

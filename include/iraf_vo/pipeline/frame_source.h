@@ -32,10 +32,13 @@ class FrameSource {
   virtual std::string skippedSummary() const { return ""; }
 };
 
-/// The images of an ASL folder (DIR/mav0/cam0).
+/// The images of an ASL folder (DIR/mav0/cam0); with a right reader (DIR/mav0/cam1) each frame also gets the right
+/// image whose timestamp is within kStereoStampTolerance of the left one (none: SourceImage::right stays empty).
 class AslFrameSource : public FrameSource {
  public:
-  explicit AslFrameSource(const AslImageReader* reader) : reader_(reader) {}
+  static constexpr int64_t kStereoStampToleranceNs = 1000000;  // 1 ms: ASL pairs share their stamps
+  explicit AslFrameSource(const AslImageReader* reader, const AslImageReader* right = nullptr)
+      : reader_(reader), right_(right) {}
   size_t size() const override { return reader_->size(); }
   bool read(long index, SourceImage* out) override;
   std::string describe(long index) const override;
@@ -43,6 +46,7 @@ class AslFrameSource : public FrameSource {
 
  private:
   const AslImageReader* reader_;
+  const AslImageReader* right_;
 };
 
 }  // namespace iraf_vo

@@ -20,12 +20,15 @@ struct PipelineOptions {
   int width = 0, height = 0;  // the camera's image size: another size stops the run (fatal)
   std::string camera_name;    // for that message
   size_t queue_capacity = 4;
+  bool stereo = false;  // run the front-end on the right images too (a second FrontEnd, same parameters)
 };
 
 /// One frame leaving the front-end, in frame order.
 struct FrontEndItem {
   long index = 0;
   FeatureFrame frame;
+  FeatureFrame right;      // stereo: the right image's features
+  bool has_right = false;  // stereo: this frame has a right image (right is valid)
   double ms_read = 0, ms_enhance = 0, ms_features = 0;
   bool error = false;  // unreadable image or front-end failure: skip the frame
   bool fatal = false;  // stop the run (image size != camera size)
@@ -59,6 +62,7 @@ class OfflinePipeline {
   FrameSource* source_;
   PipelineOptions options_;
   FrontEnd front_end_;
+  FrontEnd front_end_right_;  // stereo: its own buffers, the same parameters
   BoundedQueue<ReadItem> read_queue_;
   BoundedQueue<FrontEndItem> front_queue_;
   std::atomic<bool> stop_{false};

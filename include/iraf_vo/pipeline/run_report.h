@@ -38,6 +38,10 @@ struct RunTotals {
   bool ate_requested = false;
   bool have_ate_final = false;  // of the trajectory after mapping (KeyframeAnchoredTrajectory)
   EvalResult ate_final;
+  bool stereo = false;     // stereo run: the report adds baseline, stereo matches, right-missing frames, SE(3) ATE
+  double baseline = 0.0;   // [m]
+  bool have_ate_se3 = false;
+  EvalResult ate_se3;
 };
 
 class RunRecorder {

@@ -24,6 +24,7 @@ struct BAObservation {
   int point = 0;     // index into the point vector
   Eigen::Vector2d uv = Eigen::Vector2d::Zero();
   double sigma = 1.0;  // pixels
+  bool right = false;  // seen by the right camera of the keyframe's stereo pair (BAOptions::right_camera)
 };
 struct BAOptions {
   int max_num_iterations = 10;
@@ -35,6 +36,8 @@ struct BAOptions {
   int num_threads = 1;
   bool dense_schur = true;  // use_ceres: DENSE_SCHUR (fast for <= ~30 poses) or SPARSE_SCHUR
   bool use_ceres = false;   // ceres::Solve instead of the equivalent Schur-complement LM (schur_lm.h)
+  const CameraModel* right_camera = nullptr;  // stereo: camera of the `right` observations (Schur LM path only)
+  Eigen::Isometry3d T_r_l = Eigen::Isometry3d::Identity();  // stereo: left camera -> right camera
   bool drop_points_behind = true;  // schur_lm: a point a step moves behind a camera leaves the problem where it
                                    // was; false: Ceres' rule (the whole step is invalid)
 };

@@ -37,6 +37,9 @@ class Frame {
   std::vector<Eigen::Vector3d> bearings;  // unit bearing of each keypoint (CameraModel::unproject)
   std::vector<char> valid;                // 0: the keypoint did not unproject
   std::vector<long> point_id;             // matched map point per keypoint, -1 if none
+  /// Stereo: per keypoint its left-right match in the right image (u, v, sigma [px]); sigma 0 = none. Empty
+  /// for a monocular frame or one without a right image.
+  std::vector<Eigen::Vector3f> right_obs;
   Eigen::Isometry3d T_c_w = Eigen::Isometry3d::Identity();
 
   /// Undistorts the feature stage's keypoints and builds the search grid. false + *error when the

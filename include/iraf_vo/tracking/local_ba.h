@@ -47,7 +47,10 @@ struct LocalBAProblem {
 };
 
 /// The sliding-window BA problem of the map's newest window_size keyframes, copied under the map lock.
-LocalBAProblem buildLocalBAProblem(const Map& map, int window_size, double min_fixed_span);
+/// stereo: the keyframes' right-image observations (Keyframe::right_obs) become residuals too (BAObservation::right),
+/// a point seen by one stereo keyframe is optimized, and the gauge is 6 dof only (the scale is observed): the
+/// keyframes outside the window that see its points are fixed, or else the oldest window keyframe.
+LocalBAProblem buildLocalBAProblem(const Map& map, int window_size, double min_fixed_span, bool stereo = false);
 
 /// Writes the optimized poses / points back into the map, moves keyframes / points added since the problem was
 /// built with their anchor's correction and removes observations flagged as outliers. The caller holds

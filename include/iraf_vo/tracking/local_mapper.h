@@ -25,6 +25,7 @@
 #pragma once
 
 #include "iraf_vo/camera/camera_model.h"
+#include "iraf_vo/camera/stereo_rig.h"
 #include "iraf_vo/tracking/local_ba.h"
 #include "iraf_vo/tracking/map.h"
 #include "iraf_vo/tracking/matcher.h"
@@ -56,7 +57,8 @@ class LocalMapper {
 
   /// Tracking thread, holding Map::lockUpdates: adds the frame to the map as a keyframe (after the running BA,
   /// whose window thus never depends on thread timing) and accepts it (acceptKeyframe). Returns its id.
-  long addKeyframe(const Frame& f);
+  /// stereo: the frame's left-right points for keypoints without a map point (added before the triangulation).
+  long addKeyframe(const Frame& f, const std::vector<StereoMapPoint>& stereo = {});
   /// Tracking thread, holding Map::lockUpdates, for a keyframe in the map (a new one, or the initializer's
   /// second): threaded, writes the last BA result back and bounds the map (waiting for the BA); then culls,
   /// updates descriptors, triangulates and fuses the keyframe's points.
@@ -74,6 +76,9 @@ class LocalMapper {
   /// Triangulates the keyframe's new points (once per keyframe) and fuses them.
   void createNewMapPoints(long kf_id);
   LocalMapperStats stats() const;
+  /// Stereo: the local BA adds the keyframes' right-image residuals and fixes no scale (call before the first
+  /// keyframe; rig must outlive the mapper).
+  void setStereo(const StereoRig* rig) { rig_ = rig; }
   /// The largest change of the window's extent (after / before, or its inverse if that is larger, as a factor
   /// >= 1 with the direction kept: < 1 shrank) by a local BA written back since the last call; 1 when none was.
   /// Counted when the result reaches the map (threaded: at the next keyframe), not when the BA ends, so the
@@ -97,6 +102,7 @@ class LocalMapper {
   const TrackerParams& p_;
   Map* map_;
   Matcher matcher_;
+  const StereoRig* rig_ = nullptr;
 
   mutable std::mutex queue_mutex_;
   std::condition_variable queue_cv_, idle_cv_;

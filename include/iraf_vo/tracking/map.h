@@ -30,6 +30,9 @@ struct MapPoint {
   std::map<long, int> obs;  // keyframe id -> keypoint index
   long first_kf = 0;        // keyframe that created the point
   int visible = 1, found = 1;
+  int stereo_obs = 0;       // right-image observations: a point from a stereo keyframe counts twice (ORB-SLAM)
+  /// Keyframe observations plus right-image ones: what the culling and the keyframe rule count.
+  size_t observations() const { return obs.size() + static_cast<size_t>(stereo_obs); }
 };
 
 struct Keyframe {
@@ -43,6 +46,7 @@ struct Keyframe {
   cv::Mat descriptors;
   std::vector<Eigen::Vector3d> bearings;
   std::vector<char> valid;
+  std::vector<Eigen::Vector3f> right_obs;  // Frame::right_obs (stereo keyframe), empty otherwise
   // guarded by the map mutex:
   std::vector<long> point_id;
   std::atomic<bool> triangulated{false};  // new points created already (LocalMapper::createNewMapPoints)
@@ -93,6 +97,12 @@ struct NewMapPoint {
   int kp_b;
 };
 
+/// A point of one stereo keyframe: its left keypoint and the position from the left-right triangulation.
+struct StereoMapPoint {
+  int kp = -1;
+  Eigen::Vector3d p_w = Eigen::Vector3d::Zero();
+};
+
 /// A keyframe to triangulate against, with a copy of its pose and observations taken under the lock.
 struct TriangulationNeighbor {
   KeyframePtr keyframe;
@@ -129,6 +139,13 @@ class Map {
   /// returns false. *created = points created (before a roll-back).
   bool createInitialMap(const KeyframePtr& kf0, const KeyframePtr& kf1, const std::vector<NewMapPoint>& points,
                         int min_points, int* created);
+  /// Adds a stereo map's first keyframe and the points of its left-right matches (metric from one frame). Fewer
+  /// than min_points points -> nothing added, returns false. *created = points created (before a roll-back).
+  bool createStereoMap(const KeyframePtr& kf, const std::vector<StereoMapPoint>& points, int min_points,
+                       int* created);
+  /// Adds the stereo points of keyframe kf_id at its keypoints that have no point yet (recent points, culled
+  /// as triangulated ones). Returns the number added.
+  int addStereoPoints(long kf_id, const std::vector<StereoMapPoint>& points);
   /// Adds a keyframe made from a tracked frame: its matched points (f.point_id) become observations.
   long addKeyframe(const Frame& f);
   void clear();
@@ -171,13 +188,15 @@ class Map {
 
  private:
   // The local BA's and the fusion's side of the map (local_ba.h, map_fusion.h) work on the map's data under its lock.
-  friend LocalBAProblem buildLocalBAProblem(const Map& map, int window_size, double min_fixed_span);
+  friend LocalBAProblem buildLocalBAProblem(const Map& map, int window_size, double min_fixed_span, bool stereo);
   friend void applyLocalBA(const LocalBAProblem& problem, const BASummary& summary, Map* map);
   friend std::vector<FusionTarget> fusionTargets(const Map& map, long kf_id, int num_neighbors,
                                                  const CameraModel* camera);
   friend std::pair<int, int> applyFusion(const std::vector<FusionLink>& links, Map* map);
 
   long createPointLocked(const Eigen::Vector3d& p_w, Keyframe& a, int kp_a, Keyframe& b, int kp_b);
+  long createStereoPointLocked(const Eigen::Vector3d& p_w, Keyframe& kf, int kp);
+  MapPoint& newPointLocked(const Eigen::Vector3d& p_w, Keyframe& kf, int kp);
   void erasePointLocked(long id);
   /// Moves gone's observations to keep (where keep has none in that keyframe) and erases gone (applyFusion).
   void mergePointsLocked(MapPoint* keep, MapPoint* gone);

@@ -36,6 +36,7 @@
 #pragma once
 
 #include "iraf_vo/camera/camera_model.h"
+#include "iraf_vo/camera/stereo_rig.h"
 #include "iraf_vo/features/feature_frame.h"
 #include "iraf_vo/tracking/map.h"
 #include "iraf_vo/tracking/tracker_params.h"
@@ -85,6 +86,9 @@ struct TrackResult {
   int relocalized_after_frames = 0;  // > 0: tracked again in the same map after dark frames, at the n-th frame
                                      // with signal
   std::string init_status;    // while initializing: why this frame did not initialize the map
+  bool stereo = false;         // stereo tracker: the right image of this frame was used
+  bool right_missing = false;  // stereo tracker: this frame had no right image (tracked with the left camera)
+  int stereo_matches = 0;      // stereo tracker: left-right matches of this frame (triangulated, checked)
   TrackTiming timing;
 };
 
@@ -105,6 +109,10 @@ struct TrackerStats {
   double ba_ms_total = 0.0;        // LocalMapperStats
   double ba_cpu_ms_total = 0.0;
   double ba_final_rmse_px = 0.0;   // last BA
+  long right_missing_frames = 0;   // stereo tracker: frames without a right image
+  long right_missing_events = 0;   // runs of consecutive frames without a right image
+  long stereo_matches_last = 0;    // left-right matches of the last frame with a right image
+  long stereo_matches_total = 0;   // summed over the frames with a right image
 };
 
 
@@ -112,6 +120,9 @@ class Tracker {
  public:
   /// Throws std::invalid_argument for a null camera or invalid params.
   Tracker(CameraModelPtr camera, const TrackerParams& params);
+  /// Stereo: the map is metric from the first frame (left camera = the tracked camera; poses are the left
+  /// camera's). Throws std::invalid_argument for an incomplete rig or invalid params.
+  Tracker(const StereoRig& rig, const TrackerParams& params);
   ~Tracker();
   Tracker(const Tracker&) = delete;
   Tracker& operator=(const Tracker&) = delete;
@@ -119,6 +130,13 @@ class Tracker {
   /// Processes one frame. Keypoints in level-0 distorted pixels; descriptors N x 32 CV_8U.
   /// A frame with mismatched keypoints/descriptors is reported as lost (never throws on bad frame data).
   TrackResult track(const FeatureFrame& frame);
+  /// Stereo frame: left and right features of one exposure. right == nullptr (or an empty frame): this frame has
+  /// no right image; the tracker continues in its metric map with the left camera (TrackResult::right_missing,
+  /// TrackerStats::right_missing_frames). On a monocular tracker the right frame is ignored.
+  TrackResult track(const FeatureFrame& left, const FeatureFrame* right);
+  bool isStereo() const;
+  /// The rig of a stereo tracker (left = the camera of the monocular constructor, right = null for mono).
+  const StereoRig& rig() const;
 
   /// Positions (world) of the current map's points (the sliding window plus its fixed anchors).
   std::vector<Eigen::Vector3d> mapPoints() const;

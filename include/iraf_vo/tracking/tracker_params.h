@@ -64,6 +64,12 @@ struct TrackerParams {
                                         // false: at the octave it was created at, from any side (see docs/decisions.md)
   int fuse_neighbors = 0;               // map-point fusion with this many most covisible keyframes (0 = off; see docs/decisions.md)
   double fuse_radius_px = 3.0;          // fusion search window at octave 0 (times scale_factor^octave)
+  // ---- stereo (stereo_matcher.h; a monocular tracker ignores them) ----
+  double stereo_epipolar_px = 2.0;          // left-right candidates within this distance of the epipolar line
+                                            // (x the keypoint's sigma) [px]
+  double stereo_min_depth = 0.1;            // stereo points closer than this are dropped [m]
+  double stereo_max_depth_baselines = 200.0;  // ... and farther than this many baselines (stereo_matcher.h)
+  int stereo_init_min_points = 100;         // stereo points the first (metric) map needs from one frame
   // ---- sliding-window BA ----
   int ba_window_size = 10;
   int max_map_keyframes = 25;           // keyframes kept (older are dropped); the local BA's fixed anchors are the

@@ -1,0 +1,77 @@
+// Stereo input of the offline runner: the ASL source pairs cam0 with the cam1 image of the same timestamp (none
+// where cam1 has no image), and `iraf_vo_run --stereo` refuses a folder without cam1, naming it, and reports a
+// stereo run (baseline, right-missing frames) on EuRoC MH_01.
+#include <gtest/gtest.h>
+
+#include <sys/stat.h>
+
+#include <fstream>
+
+#include "common/run_command.h"
+#include "common/tmp_dir.h"
+#include "iraf_vo/pipeline/frame_source.h"
+
+using namespace iraf_vo;
+
+namespace {
+
+const std::string kEuroc = std::string(IRAF_VO_SHARED_DIR) + "/data/euroc_mh01_600";
+const std::string kRun = std::string(IRAF_VO_BIN_DIR) + "/iraf_vo_run";
+
+bool haveCam1() { return static_cast<bool>(std::ifstream(kEuroc + "/mav0/cam1/data.csv")); }
+
+}  // namespace
+
+TEST(StereoOffline, AslSourcePairsImagesByTimestamp) {
+  if (!haveCam1()) GTEST_SKIP() << "no EuRoC cam1 at " << kEuroc;
+  AslImageReader left, right;
+  std::string err;
+  ASSERT_TRUE(left.open(kEuroc, &err)) << err;
+  ASSERT_TRUE(right.open(kEuroc, &err, "cam1")) << err;
+  AslFrameSource source(&left, &right);
+  SourceImage im;
+  ASSERT_TRUE(source.read(0, &im));
+  EXPECT_TRUE(im.error.empty()) << im.error;
+  EXPECT_EQ(im.right.size(), im.gray.size());
+  EXPECT_EQ(im.right.type(), CV_8UC1);
+  ASSERT_TRUE(source.read(319, &im));
+  EXPECT_FALSE(im.right.empty());
+  ASSERT_TRUE(source.read(320, &im));  // cam1 stops after frame 319
+  EXPECT_TRUE(im.error.empty());
+  EXPECT_FALSE(im.gray.empty());
+  EXPECT_TRUE(im.right.empty());
+  AslFrameSource mono(&left);
+  ASSERT_TRUE(mono.read(0, &im));
+  EXPECT_TRUE(im.right.empty());
+}
+
+TEST(StereoOffline, RunWithoutCam1NamesTheFolder) {
+  if (!haveCam1()) GTEST_SKIP() << "no EuRoC at " << kEuroc;
+  // A folder with cam0 only (a link to EuRoC's).
+  const std::string dir = tmpRoot() + "mono_only";
+  ASSERT_EQ(0, std::system(("mkdir -p " + dir + "/mav0 && ln -s " + kEuroc + "/mav0/cam0 " + dir + "/mav0/cam0").c_str()));
+  std::string out;
+  EXPECT_EQ(1, test::runCommand(kRun + " --dataset " + dir + " --stereo --frames 3 --out " + dir + "/t.txt --quiet", &out));
+  EXPECT_NE(out.find("--stereo: no right camera in " + dir), std::string::npos) << out;
+  EXPECT_NE(out.find("cam1"), std::string::npos) << out;
+}
+
+TEST(StereoOffline, RunReportsTheMissingRightImages) {
+  if (!haveCam1()) GTEST_SKIP() << "no EuRoC cam1 at " << kEuroc;
+  const std::string dir = tmpRoot() + "run";
+  ::mkdir(dir.c_str(), 0755);
+  std::string out;
+  // Frames 315-324: cam1 stops after 319 (the MAV stands still there).
+  ASSERT_EQ(0, test::runCommand(kRun + " --dataset " + kEuroc + " --stereo --first 315 --frames 10 --out " + dir +
+                                    "/t.txt --stats " + dir + "/s.json --quiet",
+                                &out))
+      << out;
+  EXPECT_NE(out.find("right image missing from frame 320: continuing with the left camera"), std::string::npos) << out;
+  EXPECT_NE(out.find("frames without a right image 5 (1 runs)"), std::string::npos) << out;
+  EXPECT_NE(out.find("tracked 10 (100 %)"), std::string::npos) << out;
+  std::ifstream js(dir + "/s.json");
+  const std::string json((std::istreambuf_iterator<char>(js)), std::istreambuf_iterator<char>());
+  EXPECT_NE(json.find("\"stereo\": true"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"right_missing_frames\": 5"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"baseline\": 0.110"), std::string::npos) << json;
+}

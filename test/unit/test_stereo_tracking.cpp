@@ -1,0 +1,123 @@
+// The tracker in stereo mode on a synthetic stereo sequence: the map is metric from the first frame (positions
+// compared without any alignment or scale), and a right camera that stops keeps the tracker going with the left
+// one in the same metric map (counted, no reset).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "iraf_vo/tracking/tracker.h"
+#include "unit/tracking_test_utils.h"
+
+using namespace iraf_vo;
+using namespace iraf_vo::test;
+
+namespace {
+
+struct StereoRun {
+  int tracked = 0, first_tracked = -1, right_missing_results = 0;
+  double path_true = 0.0, path_est = 0.0, max_position_error = 0.0;
+  TrackerStats stats;
+};
+
+/// 70 frames through a textured box (sideways and forward motion, some yaw); world = the first left camera.
+/// Frames >= right_until get no right image.
+StereoRun runSequence(CameraModelPtr cam, int right_until, int frames = 70) {
+  StereoRig rig;
+  rig.left = rig.right = cam;
+  rig.T_r_l = makePose(Eigen::Vector3d(0.3, -1.0, 0.2), Eigen::Vector3d(-0.11, 0.002, 0.001));
+  TrackerParams p;
+  p.mapping_thread = false;  // deterministic
+  p.ba_max_num_iterations = 5;
+  Tracker tracker(rig, p);
+  EXPECT_TRUE(tracker.isStereo());
+  SyntheticWorld world;
+  world.addBox(1500, Eigen::Vector3d(-5, -3, 2.0), Eigen::Vector3d(5, 3, 9.0));
+  StereoRun out;
+  Eigen::Vector3d last_true, last_est;
+  for (int i = 0; i < frames; ++i) {
+    const Eigen::Isometry3d T_w_l =
+        makePose(Eigen::Vector3d(0.0, 8.0 * std::sin(0.05 * i), 0.0), Eigen::Vector3d(0.02 * i, 0.0, 0.01 * i));
+    const FeatureFrame left = world.render(*cam, T_w_l, 0.05 * i, 0.3, 4);
+    const FeatureFrame right = world.render(*cam, T_w_l * rig.T_r_l.inverse(), 0.05 * i, 0.3, 4);
+    const TrackResult r = tracker.track(left, i < right_until ? &right : nullptr);
+    out.right_missing_results += r.right_missing;
+    EXPECT_EQ(r.stereo, i < right_until) << "frame " << i;
+    if (r.state != TrackingState::kTracking) continue;
+    if (out.first_tracked < 0) out.first_tracked = i;
+    ++out.tracked;
+    const Eigen::Vector3d est = r.T_w_c.translation();
+    out.max_position_error = std::max(out.max_position_error, (est - T_w_l.translation()).norm());
+    if (out.tracked > 1) {
+      out.path_true += (T_w_l.translation() - last_true).norm();
+      out.path_est += (est - last_est).norm();
+    }
+    last_true = T_w_l.translation();
+    last_est = est;
+  }
+  tracker.waitForMapping();
+  out.stats = tracker.stats();
+  return out;
+}
+
+}  // namespace
+
+TEST(StereoTracking, MetricFromTheFirstFrame) {
+  const StereoRun r = runSequence(std::make_shared<TestPinhole>(752, 480, 458.0, 376.0, 240.0), 1000);
+  EXPECT_EQ(r.first_tracked, 0);
+  EXPECT_EQ(r.tracked, 70);
+  EXPECT_EQ(r.stats.initializations, 1);
+  EXPECT_EQ(r.stats.resets, 0);
+  EXPECT_GT(r.stats.stereo_matches_last, 200);
+  // Metric without alignment: path length within 1 %, every position within 1 % of the path.
+  ASSERT_GT(r.path_true, 1.0);
+  EXPECT_NEAR(r.path_est / r.path_true, 1.0, 0.01);
+  EXPECT_LT(r.max_position_error, 0.01 * r.path_true);
+  EXPECT_EQ(r.stats.right_missing_frames, 0);
+}
+
+TEST(StereoTracking, FisheyePairIsMetricToo) {
+  const StereoRun r = runSequence(std::make_shared<TestFisheye>(640, 640, 230.0, 320.0, 320.0), 1000, 40);
+  EXPECT_EQ(r.first_tracked, 0);
+  EXPECT_EQ(r.tracked, 40);
+  ASSERT_GT(r.path_true, 0.5);
+  EXPECT_NEAR(r.path_est / r.path_true, 1.0, 0.01);
+  // f 230 px: half the pinhole's disparity per metre, so twice its depth noise (measured: 1.8 % of the path).
+  EXPECT_LT(r.max_position_error, 0.025 * r.path_true);
+}
+
+TEST(StereoTracking, MissingRightImageContinuesWithTheLeftCamera) {
+  const StereoRun r = runSequence(std::make_shared<TestPinhole>(752, 480, 458.0, 376.0, 240.0), 30);
+  EXPECT_EQ(r.first_tracked, 0);
+  EXPECT_EQ(r.tracked, 70);  // no frame lost when the right camera stops
+  EXPECT_EQ(r.stats.resets, 0);
+  EXPECT_EQ(r.stats.initializations, 1);
+  EXPECT_EQ(r.stats.right_missing_frames, 40);
+  EXPECT_EQ(r.stats.right_missing_events, 1);
+  EXPECT_EQ(r.right_missing_results, 40);
+  // The metric map carries the scale on: within 2 % over the 40 left-only frames.
+  EXPECT_NEAR(r.path_est / r.path_true, 1.0, 0.02);
+  EXPECT_LT(r.max_position_error, 0.02 * r.path_true);
+}
+
+TEST(StereoTracking, RigIsChecked) {
+  auto cam = std::make_shared<TestPinhole>(752, 480, 458.0, 376.0, 240.0);
+  StereoRig rig;
+  rig.left = cam;
+  TrackerParams p;
+  try {
+    Tracker t(rig, p);
+    FAIL() << "a rig without a right camera was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("right camera is missing"), std::string::npos) << e.what();
+  }
+  rig.right = cam;  // T_r_l identity: baseline 0
+  EXPECT_THROW(Tracker(rig, p), std::invalid_argument);
+  // A monocular tracker ignores a right frame.
+  Tracker mono(cam, p);
+  EXPECT_FALSE(mono.isStereo());
+  FeatureFrame empty;
+  const TrackResult r = mono.track(empty, &empty);
+  EXPECT_FALSE(r.stereo);
+  EXPECT_FALSE(r.right_missing);
+}
