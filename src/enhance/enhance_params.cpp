@@ -43,6 +43,11 @@ const ParamTable<EnhanceParams>& enhanceParamTable() {
           doubleParam("epsilon", &P::epsilon, 0.0, 3.0, "eq. 12: weight of the gamma term (I_gamma - I_gauss)"),
           doubleParam("eta", &P::eta, 0.0, 5.0,
                       "eq. 12: weight of the unsharp mask G_mask (unsharp amount, authors' code: 1.5)"),
+          doubleParam("unsharp_min_snr", &P::unsharp_min_snr, 0.0, 100.0,
+                      "At or below this estimated SNR (contrast / noise of 4x4 means) the unsharp amount is 1: no "
+                      "sharpening of the noise"),
+          doubleParam("unsharp_full_snr", &P::unsharp_full_snr, 0.0, 100.0,
+                      "At or above this estimated SNR the unsharp amount is eta (linear in between); 0 = eta always"),
           doubleParam("clahe_clip_limit", &P::clahe_clip_limit, 0.1, 40.0, "CLAHE clip limit (ORB-SLAM3 TUM-VI: 3.0)"),
           intParam("clahe_tiles", &P::clahe_tiles, 1, 32, "CLAHE tiles per side (ORB-SLAM3 TUM-VI: 8)"),
       });

@@ -79,6 +79,12 @@ double gammaWeight(double t, const EnhanceParams& cfg) {
   return cfg.brightness_ramp > 0.0 ? std::min(1.0, over / cfg.brightness_ramp) : 1.0;
 }
 
+double unsharpAmount(double snr, const EnhanceParams& cfg) {
+  if (cfg.unsharp_full_snr <= 0.0 || snr >= cfg.unsharp_full_snr) return cfg.eta;
+  if (snr <= cfg.unsharp_min_snr) return 1.0;
+  return 1.0 + (cfg.eta - 1.0) * (snr - cfg.unsharp_min_snr) / (cfg.unsharp_full_snr - cfg.unsharp_min_snr);
+}
+
 #if defined(IRAF_VO_AVX512_KERNELS)
 namespace blend_avx512 {
 int blendRow(const uint8_t* pi, const uint8_t* pb, const uint8_t* pg, float wi, float wb, float wg, int n,
@@ -205,9 +211,15 @@ EnhanceResult Enhancer::enhance(const cv::Mat& gray, const EnhanceParams& cfg) {
       // eqs. (11)-(12) in float, saturated once, with the gamma term weighted by w = res.gamma_weight (1 unless
       // brightness_ramp > 0; G = B for a normal image, where w does not matter):
       //   I' = B + w epsilon * (G - B) + eta * (I - B) = eta*I + (1 - w epsilon - eta)*B + w epsilon*G
+      // eta is lowered toward 1 on a noisy image (unsharpAmount): the mask would sharpen the noise.
+      res.unsharp_amount = cfg.eta;
+      if (cfg.unsharp_full_snr > 0.0 && cfg.eta != 1.0) {
+        res.signal = measureImageSignal(gray);
+        if (res.signal.measured) res.unsharp_amount = unsharpAmount(res.signal.snr, cfg);
+      }
       const double eps = cfg.epsilon * (gamma_img == &gamma_ ? res.gamma_weight : 1.0);
-      const float wi = static_cast<float>(cfg.eta);
-      const float wb = static_cast<float>(1.0 - eps - cfg.eta);
+      const float wi = static_cast<float>(res.unsharp_amount);
+      const float wb = static_cast<float>(1.0 - eps - res.unsharp_amount);
       const float wg = static_cast<float>(eps);
       res.image.create(gray.size(), CV_8UC1);
       for (int r = 0; r < gray.rows; ++r)

@@ -153,7 +153,7 @@ class EnhanceNodelet : public StageNodelet<EnhanceParams, iraf_vo::EnhanceConfig
       st->mu = static_cast<float>(res.mu);
       st->t = static_cast<float>(res.t);
       st->ms = static_cast<float>(res.ms);
-      const ImageSignal signal = measureImageSignal(gray);
+      const ImageSignal signal = res.signal.measured ? res.signal : measureImageSignal(gray);
       st->signal_noise = static_cast<float>(signal.noise_sigma);
       st->signal_contrast = static_cast<float>(signal.contrast);
       st->signal_snr = static_cast<float>(signal.snr);

@@ -62,7 +62,7 @@ FeatureFrame FrontEnd::process(const cv::Mat& gray, double stamp, FrontEndTiming
   if (timing) *timing = {ms_enhance, msSince(t0)};
   frame.stamp = stamp;
   frame.stats.brightness = static_cast<int>(enhanced.brightness);
-  frame.signal = measureImageSignal(gray);
+  frame.signal = enhanced.signal.measured ? enhanced.signal : measureImageSignal(gray);
   return frame;
 }
 

@@ -121,6 +121,7 @@ TEST(Enhancer, CombinationEqualsScalarEquationsElevenTwelveExactly) {
   cv::RNG rng(11);
   rng.fill(img, cv::RNG::UNIFORM, 0, 60);
   EnhanceParams p;
+  p.unsharp_full_snr = 0.0;  // eta at every SNR (this image is noise only)
   for (bool avx512 : {false, true}) {
   SCOPED_TRACE(enhanceBlendUseAvx512(avx512) ? "AVX-512" : "128-bit");
   Enhancer e;
@@ -141,6 +142,39 @@ TEST(Enhancer, CombinationEqualsScalarEquationsElevenTwelveExactly) {
     }
   }
   enhanceBlendUseAvx512(true);
+}
+
+TEST(Enhancer, UnsharpAmountFollowsTheSnrRamp) {
+  EnhanceParams p;  // eta 1.5, ramp over SNR 5..8
+  EXPECT_DOUBLE_EQ(unsharpAmount(20.0, p), p.eta);
+  EXPECT_DOUBLE_EQ(unsharpAmount(8.0, p), p.eta);
+  EXPECT_DOUBLE_EQ(unsharpAmount(6.5, p), 1.0 + 0.5 * (p.eta - 1.0));
+  EXPECT_DOUBLE_EQ(unsharpAmount(5.0, p), 1.0);
+  EXPECT_DOUBLE_EQ(unsharpAmount(0.5, p), 1.0);
+  p.unsharp_full_snr = 0.0;  // the paper: eta always
+  EXPECT_DOUBLE_EQ(unsharpAmount(0.5, p), p.eta);
+}
+
+TEST(Enhancer, NoisyImageIsNotSharpened) {
+  // A camera at high gain: the textured image under Gaussian noise of 40 grey levels (estimated SNR < 5). The mask
+  // would sharpen the noise; with the amount at 1 a normal image comes out as it went in (I + B - B).
+  cv::Mat noise(iraf_vo_test::texturedImage().size(), CV_16S), noisy16, noisy;
+  cv::RNG rng(3);
+  rng.fill(noise, cv::RNG::NORMAL, 0, 40);
+  iraf_vo_test::texturedImage().convertTo(noisy16, CV_16S);
+  cv::Mat(noisy16 + noise).convertTo(noisy, CV_8U);
+  EnhanceParams p;
+  p.mu_expected = cv::mean(noisy)[0];  // normal
+  Enhancer e;
+  const EnhanceResult r = e.enhance(noisy, p);
+  ASSERT_TRUE(r.signal.measured);
+  EXPECT_LT(r.signal.snr, p.unsharp_min_snr);
+  EXPECT_DOUBLE_EQ(r.unsharp_amount, 1.0);
+  EXPECT_EQ(cv::norm(r.image, noisy, cv::NORM_INF), 0.0);
+  // The clean image keeps the full amount.
+  const EnhanceResult clean = e.enhance(iraf_vo_test::texturedImage(), p);
+  EXPECT_GT(clean.signal.snr, p.unsharp_full_snr);
+  EXPECT_DOUBLE_EQ(clean.unsharp_amount, p.eta);
 }
 
 TEST(Enhancer, SharpeningIsNotClippedBeforeCombination) {

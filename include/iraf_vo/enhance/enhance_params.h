@@ -42,6 +42,11 @@ struct EnhanceParams {
   // eq. (12): weights of the gamma term (epsilon) and of the unsharp mask (eta, the unsharp amount).
   double epsilon = 1.0;
   double eta = 1.5;
+  // The unsharp mask amplifies the sensor noise with the detail: its amount falls from eta to 1 (no sharpening)
+  // as the image's estimated SNR (features/image_signal.h) falls from unsharp_full_snr to unsharp_min_snr.
+  // unsharp_full_snr 0 = eta at every SNR (the paper).
+  double unsharp_min_snr = 5.0;
+  double unsharp_full_snr = 8.0;
 
   // Comparison front-ends (Table I): CLAHE as ORB-SLAM3 uses it for TUM-VI.
   double clahe_clip_limit = 3.0;

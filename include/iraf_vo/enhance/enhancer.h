@@ -15,6 +15,7 @@
 #include <string>
 
 #include "iraf_vo/enhance/enhance_params.h"
+#include "iraf_vo/features/image_signal.h"
 
 namespace iraf_vo {
 
@@ -27,8 +28,14 @@ struct EnhanceResult {
   double mu = 0.0;  // eq. (9)
   double t = 0.0;   // eq. (10)
   double gamma_weight = 0.0;  // weight of the gamma correction actually applied (0 for a normal image; brightness_ramp)
+  double unsharp_amount = 0.0;  // eq. (12) eta actually applied (iraf): eta, lowered toward 1 at a low SNR
+  ImageSignal signal;           // of the input, when the unsharp amount needed it (measured = false otherwise)
   double ms = 0.0;  // wall time spent in enhance()
 };
+
+/// eq. (12)'s unsharp amount at an image's estimated SNR: cfg.eta at or above cfg.unsharp_full_snr (or when it is
+/// 0), 1 (no sharpening) at or below cfg.unsharp_min_snr, linear in between.
+double unsharpAmount(double snr, const EnhanceParams& cfg);
 
 /// Lets the iraf blend (eqs. 11-12) use AVX-512 (where the CPU has AVX-512BW; the default) or 128-bit SIMD:
 /// the same bytes. For tests; returns whether AVX-512 is now in use.

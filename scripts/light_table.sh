@@ -1,0 +1,126 @@
+#!/usr/bin/env bash
+# The light-preset table: every light preset x camera x seed, VO in each front-end mode (default settings:
+# threaded mapping unless --sync), and the done rule per sequence: iraf ATE <= 1.1 x the best of
+# baseline / he / clahe, no lost event where the baseline has none, and on night and flashlight iraf <= 0.5 x baseline.
+#
+#   scripts/light_table.sh [--out DIR] [--sims DIR] [--bin DIR] [--frames N] [--seeds "0 11"]
+#                          [--presets "night ae_hunting ..."] [--cameras "pinhole fisheye"]
+#                          [--modes "iraf baseline he clahe"] [--sync] [-- iraf_vo_run args]
+#
+# --sims: where the simulated sequences are cached (DIR/P_C_sS, rendered once with iraf_vo_simulate --threads 1;
+# default OUT/sims). --bin: folder with iraf_vo_run / iraf_vo_simulate (default: this checkout's build).
+# --sync: --set tracker.mapping_thread=false (deterministic up to floating point).
+# Output: OUT/results.csv (preset,camera,seed,mode,ate_mm,lost_events,resets,tracked,frames) and OUT/table.md
+# (printed): ATE [mm] (lost events) per sequence and mode, iraf / best other, the rule's verdict.
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+repo="$(cd "$here/.." && pwd)"
+out=/tmp/iraf_vo_light_table
+sims=""
+bin="${IRAF_VO_BUILD_DIR:-$repo/build}/devel/lib/iraf_vo"
+frames=200
+seeds="0 11"
+presets="night ae_hunting light_switch blackout flashlight glare"
+cameras="pinhole fisheye"
+modes="iraf baseline he clahe"
+declare -a extra=()
+die() { echo "light_table.sh: $*" >&2; exit 2; }
+need() { [[ $# -ge 2 && -n "$2" ]] || die "$1 needs a value"; }
+while [[ $# -gt 0 ]]; do
+  case "$1" in
+    -h|--help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; exit 0 ;;
+    --out) need "$@"; out="$2"; shift 2 ;;
+    --sims) need "$@"; sims="$2"; shift 2 ;;
+    --bin) need "$@"; bin="$2"; shift 2 ;;
+    --frames) need "$@"; frames="$2"; shift 2 ;;
+    --seeds) need "$@"; seeds="$2"; shift 2 ;;
+    --presets) need "$@"; presets="$2"; shift 2 ;;
+    --cameras) need "$@"; cameras="$2"; shift 2 ;;
+    --modes) need "$@"; modes="$2"; shift 2 ;;
+    --sync) extra+=(--set tracker.mapping_thread=false); shift ;;
+    --) shift; extra+=("$@"); break ;;
+    *) die "unknown argument '$1' (see --help)" ;;
+  esac
+done
+[[ "$frames" =~ ^[0-9]+$ && "$frames" -ge 60 ]] || die "--frames '$frames': expected an integer >= 60"
+for p in $presets; do
+  case "$p" in night|ae_hunting|light_switch|blackout|flashlight|glare) ;; *) die "--presets: unknown preset '$p'" ;; esac
+done
+for c in $cameras; do case "$c" in pinhole|fisheye) ;; *) die "--cameras: unknown camera '$c'" ;; esac; done
+for s in $seeds; do [[ "$s" =~ ^[0-9]+$ ]] || die "--seeds: '$s' is not an integer"; done
+for m in $modes; do
+  case "$m" in baseline|he|clahe|enhance|adaptive|culling|iraf) ;; *) die "--modes: unknown mode '$m'" ;; esac
+done
+for t in iraf_vo_run iraf_vo_simulate; do [[ -x "$bin/$t" ]] || die "$bin/$t missing (build first: scripts/setup.sh)"; done
+[[ -n "$sims" ]] || sims="$out/sims"
+export PATH=/usr/bin:$PATH
+mkdir -p "$out/runs" "$sims"
+csv="$out/results.csv"
+echo "preset,camera,seed,mode,ate_mm,lost_events,resets,tracked,frames" > "$csv"
+t0=$(date +%s)
+log() { printf '[%4ds] %s\n' $(( $(date +%s) - t0 )) "$*" >&2; }
+
+for s in $seeds; do
+  for c in $cameras; do
+    for p in $presets; do
+      d="$sims/${p}_${c}_s$s"
+      [[ $frames == 200 ]] || d="${d}_f$frames"
+      if [[ ! -f "$d.done" ]]; then
+        log "simulating $p, $c, seed $s -> $d"
+        rm -rf "$d"
+        "$bin/iraf_vo_simulate" --preset "$p" --camera "$c" --frames "$frames" --seed "$s" --threads 1 --out "$d" \
+          > "$d.log" 2>&1 || { cat "$d.log" >&2; die "iraf_vo_simulate --preset $p --camera $c --seed $s failed"; }
+        touch "$d.done"
+      fi
+      for m in $modes; do
+        r="$out/runs/${p}_${c}_s$s.$m"
+        "$bin/iraf_vo_run" --dataset "$d" --mode "$m" --gt "$d/groundtruth.txt" --out "$r.txt" --stats "$r.json" \
+          "${extra[@]}" > "$r.log" 2>&1 || { log "iraf_vo_run failed on $p $c seed $s $m (see $r.log)"; continue; }
+        /usr/bin/python3 - "$r.json" "$p" "$c" "$s" "$m" >> "$csv" <<'EOF'
+import json, sys
+j = json.load(open(sys.argv[1]))
+ate = j.get("ate_rmse")
+print(",".join(sys.argv[2:6] + ["%.1f" % (1000 * ate) if ate is not None else "nan",
+                                 str(j["lost_events"]), str(j["resets"]), str(j["tracked"]), str(j["frames"])]))
+EOF
+        log "$p $c seed $s $m: $(tail -1 "$csv")"
+      done
+    done
+  done
+done
+
+/usr/bin/python3 - "$csv" > "$out/table.md" <<'EOF'
+import csv, collections, math, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+seqs = collections.OrderedDict()
+for r in rows:
+    seqs.setdefault((r["preset"], r["camera"], r["seed"]), {})[r["mode"]] = r
+modes = []
+for r in rows:
+    if r["mode"] not in modes:
+        modes.append(r["mode"])
+print("| sequence | " + " | ".join(modes) + " | iraf / best other | iraf / baseline | rule |")
+print("|---|" + "---|" * (len(modes) + 3))
+ok = total = 0
+for (p, c, s), by in seqs.items():
+    cell = lambda m: "%s (%s)" % (by[m]["ate_mm"], by[m]["lost_events"]) if m in by else "-"
+    line = "| %s, %s, seed %s | " % (p, c, s) + " | ".join(cell(m) for m in modes)
+    ate = lambda m: float(by[m]["ate_mm"]) if m in by else math.nan
+    others = [ate(m) for m in ("baseline", "he", "clahe") if m in by and not math.isnan(ate(m))]
+    verdict = "-"
+    rel = rel_base = math.nan
+    if "iraf" in by and others:
+        rel = ate("iraf") / min(others)
+        rel_base = ate("iraf") / ate("baseline") if "baseline" in by else math.nan
+        extra_lost = "baseline" in by and int(by["iraf"]["lost_events"]) > 0 and int(by["baseline"]["lost_events"]) == 0
+        good = rel <= 1.1 and not extra_lost
+        if p in ("night", "flashlight"):
+            good = good and rel_base <= 0.5
+        verdict = "yes" if good else "**no**"
+        ok += good
+        total += 1
+    print(line + " | %.2f | %.2f | %s |" % (rel, rel_base, verdict))
+print()
+print("rule holds on %d of %d sequences" % (ok, total))
+EOF
+cat "$out/table.md"
