@@ -43,7 +43,7 @@ std::string TrackingHealthMonitor::check(const HealthInput& in) const {
   }
   if (in.duplicate_of_last && moving(in.median_depth)) return "duplicate of the last frame while moving";
   const double scale_change = std::max(in.ba_scale_change, 1.0 / std::max(1e-9, in.ba_scale_change));
-  if (scale_change > p_.health_max_ba_scale_change) {
+  if (!in.metric_scale && scale_change > p_.health_max_ba_scale_change) {
     why << "local BA changed the map scale by a factor " << in.ba_scale_change;
     return why.str();
   }

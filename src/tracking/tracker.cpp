@@ -191,6 +191,7 @@ std::string Tracker::Impl::checkHealth(const Frame& cur, const PoseTrackingResul
   in.T_w_predicted = T_predicted.inverse();
   in.median_depth = r.has_median_depth ? r.median_depth : last_median_depth;
   in.ba_scale_change = mapper.takeScaleChange();
+  in.metric_scale = metric_map && stereo && stereo->hasRight();
   in.duplicate_of_last = cur.size() == last.size() && cur.size() > 0 &&
                          std::equal(cur.keypoints.begin(), cur.keypoints.end(), last.keypoints.begin(),
                                     [](const cv::KeyPoint& a, const cv::KeyPoint& b) { return a.pt == b.pt; }) &&
@@ -252,6 +253,7 @@ void Tracker::Impl::resetMap() {
   mapper.clearQueue();
   map.clear();
   initializer.clearReference();
+  metric_map = false;
   have_velocity = false;
   last_kf_id = -1;
   last_ref_kf = -1;

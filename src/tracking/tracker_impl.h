@@ -46,6 +46,7 @@ struct Tracker::Impl {
   Eigen::Isometry3d T_last_rel_kf = Eigen::Isometry3d::Identity();  // T_last_c_w * T_kf_c_w^-1
   Eigen::Isometry3d velocity = Eigen::Isometry3d::Identity();
   bool have_velocity = false;
+  bool metric_map = false;  // the map was made from a stereo frame (its scale is observed)
   PoseCovarianceCalibrator covariance_calibrator;  // of the poses output as TRACKING
   long last_kf_id = -1;
   int frames_since_kf = 0;

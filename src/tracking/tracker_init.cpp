@@ -50,6 +50,7 @@ bool Tracker::Impl::initializeStereo(Frame& cur, TrackResult* res) {
     return false;
   }
   initializer.clearReference();
+  metric_map = true;
   cur.point_id = kf->point_id;
   last_kf_id = kf->id;
   res->inliers = points;
@@ -73,6 +74,7 @@ bool Tracker::Impl::initializeMap(Frame& cur, TrackResult* res) {
     res->init_status = initializer.lastFailure();
     return false;
   }
+  metric_map = false;
   last_kf_id = kf1->id;
   res->inliers = points;
   res->is_keyframe = true;

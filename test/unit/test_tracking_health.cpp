@@ -233,6 +233,12 @@ TEST(TrackingHealth, MonitorChecksInIsolation) {
   in.median_chi2 = 1.0;
   in.ba_scale_change = 0.5;
   EXPECT_NE(m.check(in).find("scale"), std::string::npos);
+  in.metric_scale = true;
+  EXPECT_EQ(m.check(in), "") << "stereo map with its right image: the scale is observed, no map-scale check";
+  in.ba_scale_change = 2.5;
+  EXPECT_EQ(m.check(in), "");
+  in.metric_scale = false;
+  EXPECT_NE(m.check(in).find("scale"), std::string::npos) << "monocular map (or no right image): checked";
   in.ba_scale_change = 1.1;
   EXPECT_EQ(m.check(in), "");
   // Constant velocity 0.1 / frame at depth 5: a step as predicted passes, a reversal or a leap is a jump.

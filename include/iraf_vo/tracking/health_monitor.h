@@ -13,7 +13,10 @@
 //                   while both move faster than half of that floor
 //                   (swapped frames, a frame from another place, a jump of the camera)
 //   map scale       the last local BA changed the window's extent by more than a factor health_max_ba_scale_change
-//                   (tracking and local BA disagree on the scale)
+//                   (tracking and local BA disagree on the scale). Monocular maps only: it guards the unobservable
+//                   monocular scale; a stereo map tracked with its right image observes the scale, and its BA
+//                   may move the extent as the metric points demand (HealthInput::metric_scale). A map made, or
+//                   a frame tracked, without the right image keeps the check.
 // The motion history restarts after every loss or (re-)initialization: until the motion model exists again
 // and three frames of motion history exist, a frame is only checked for inliers and reprojection.
 #pragma once
@@ -33,6 +36,7 @@ struct HealthInput {
   double median_chi2 = 0.0;    // of the inliers
   bool duplicate_of_last = false;
   double ba_scale_change = 1.0;  // window extent after / before the newest local BA (1 = none since last frame)
+  bool metric_scale = false;     // stereo map and this frame has its right image: the scale is observed
   Eigen::Isometry3d T_w_c = Eigen::Isometry3d::Identity();        // the tracked pose
   bool have_motion_model = false;
   Eigen::Isometry3d T_w_last = Eigen::Isometry3d::Identity();     // last frame (after BA corrections)
