@@ -145,7 +145,8 @@ TEST(Enhancer, CombinationEqualsScalarEquationsElevenTwelveExactly) {
 }
 
 TEST(Enhancer, UnsharpAmountFollowsTheSnrRamp) {
-  EnhanceParams p;  // eta 1.5, ramp over SNR 5..8
+  EnhanceParams p;  // eta 1.5
+  p.unsharp_full_snr = 8.0;  // ramp over SNR 5..8
   EXPECT_DOUBLE_EQ(unsharpAmount(20.0, p), p.eta);
   EXPECT_DOUBLE_EQ(unsharpAmount(8.0, p), p.eta);
   EXPECT_DOUBLE_EQ(unsharpAmount(6.5, p), 1.0 + 0.5 * (p.eta - 1.0));
@@ -164,6 +165,7 @@ TEST(Enhancer, NoisyImageIsNotSharpened) {
   iraf_vo_test::texturedImage().convertTo(noisy16, CV_16S);
   cv::Mat(noisy16 + noise).convertTo(noisy, CV_8U);
   EnhanceParams p;
+  p.unsharp_full_snr = 8.0;  // ramp over SNR 5..8
   p.mu_expected = cv::mean(noisy)[0];  // normal
   Enhancer e;
   const EnhanceResult r = e.enhance(noisy, p);

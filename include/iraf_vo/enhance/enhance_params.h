@@ -46,7 +46,7 @@ struct EnhanceParams {
   // as the image's estimated SNR (features/image_signal.h) falls from unsharp_full_snr to unsharp_min_snr.
   // unsharp_full_snr 0 = eta at every SNR (the paper).
   double unsharp_min_snr = 5.0;
-  double unsharp_full_snr = 8.0;
+  double unsharp_full_snr = 0.0;  // 0 by default: docs/decisions.md
 
   // Comparison front-ends (Table I): CLAHE as ORB-SLAM3 uses it for TUM-VI.
   double clahe_clip_limit = 3.0;
