@@ -1,16 +1,22 @@
 // rostest: the launch files users are told to run, each started with `roslaunch` on a small simulated bag
-// (iraf_vo_simulate, 120 frames of the room at 20 Hz through the launch file's own camera yaml):
-//   1. euroc.launch bag:=... image:=/cam0/image_raw/compressed base_frame:=base_link base_from_camera_file:=true
-//      trajectory_file:=... record:=...: odometry of base_link, base_link -> cam0 on /tf_static, tracking_events
-//      (NEW_MAP epoch 1); `rostopic echo -n 1` of tracking_status / tracking_events / diagnostics and
+// (iraf_vo_simulate, 120 frames of the room at 20 Hz through the launch file's own camera yaml, made a bag with
+// `rosrun iraf_vo iraf_vo_asl_to_bag`):
+//   1. euroc.launch bag:=... image:=/cam0/image_raw/compressed rate:=0.5 loop:=true base_frame:=base_link
+//      base_from_camera_file:=true trajectory_file:=... record:=... (rviz:=true on an Xvfb display when Xvfb is
+//      installed): odometry of base_link, base_link -> cam0 on /tf_static, tracking_events (NEW_MAP epoch 1), rviz
+//      alive; `rostopic echo -n 1` of tracking_status / tracking_events / diagnostics and
 //      `rosservice call /tracker/save_trajectory "path: ..."`; after SIGINT (Ctrl-C) the console's summary and
 //      "trajectory written to" lines, the trajectory file and the recorded bag.
-//   2. tumvi.launch bag:=... (fisheye): odometry and epoch 1.
+//   2. tumvi.launch bag:=... loop:=true (fisheye): odometry and epoch 1; `rosrun dynamic_reconfigure dynparam set
+//      /enhance mu_expected 60` (in use per `dynparam get`, logged "112 -> 60") and `rosservice call /tracker/reset`
+//      (a NEW_MAP event, cause restart).
 //   3. live.launch camera:=/camera transport:=raw camera_file:=... base_frame:=base_link camera_frame:=cam0
 //      publish_camera_tf:=true camera_xyz_ypr:=... fed by `rosbag play`: odometry of base_link, base_link -> cam0.
-//   4. tumvi_stereo.launch on a simulated stereo bag (iraf_vo_simulate --stereo; skipped while the simulator has no
+//   4. live.launch camera:=/camera image:=/camera/image_rect rectified:=true transport:=raw, no calibration file:
+//      a pinhole bag played onto image_rect and a camera_info publisher: odometry.
+//   5. tumvi_stereo.launch on a simulated stereo bag (iraf_vo_simulate --stereo; skipped while the simulator has no
 //      stereo rig): odometry.
-//   5. live_stereo.launch left:=/stereo/left right:=/stereo/right with the EuRoC yaml files, fed by `rosbag play` of
+//   6. live_stereo.launch left:=/stereo/left right:=/stereo/right with the EuRoC yaml files, fed by `rosbag play` of
 //      a stereo bag of the shared EuRoC frames 0-59 (skipped when absent): odometry, the tracker in stereo mode.
 //   (euroc_stereo.launch: stereo.test.)
 #include <gtest/gtest.h>
@@ -20,8 +26,10 @@
 #include <tf2_ros/transform_listener.h>
 
 #include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <memory>
 #include <mutex>
 #include <sstream>
 #include <string>
@@ -78,6 +86,12 @@ struct Watch {
       if (e->kind == iraf_vo::TrackingEvent::NEW_MAP && e->epoch == epoch) return true;
     return false;
   }
+  bool hasNewMap(const std::string& cause) {
+    std::lock_guard<std::mutex> l(m);
+    for (const auto& e : events)
+      if (e->kind == iraf_vo::TrackingEvent::NEW_MAP && e->cause == cause) return true;
+    return false;
+  }
 };
 
 /// A simulated bag of the room through `camera` (yaml); extra: iraf_vo_asl_to_bag options ("" = raw images).
@@ -86,7 +100,7 @@ std::string renderBag(const std::string& name, const std::string& camera, const 
   const std::string bag = g_dir + "/" + name + ".bag";
   const bool ok = sh(kBin + "/iraf_vo_simulate --preset clean --frames 120 --camera " + camera + " --out " + dir +
                      " > " + dir + ".sim.log 2>&1") &&
-                  sh(kBin + "/iraf_vo_asl_to_bag " + dir + " " + bag + " " + extra + " > " + dir + ".bag.log 2>&1");
+                  sh("rosrun iraf_vo iraf_vo_asl_to_bag " + dir + " " + bag + " " + extra + " > " + dir + ".bag.log 2>&1");
   return ok ? bag : "";
 }
 
@@ -99,8 +113,15 @@ TEST(LaunchFiles, EurocWithACompressedBag) {
   tf2_ros::Buffer tf;
   tf2_ros::TransformListener listener(tf);
   const std::string log = g_dir + "/euroc.log", traj = g_dir + "/euroc_traj.txt";
-  Child launch("roslaunch iraf_vo euroc.launch bag:=" + bag + " image:=/cam0/image_raw/compressed delay:=2 "
-               "base_frame:=base_link base_from_camera_file:=true trajectory_file:=" + traj + " record:=" + g_dir +
+  // rviz:=true needs a display: a private Xvfb one when Xvfb is installed (xvfb package), else rviz is not started.
+  const bool xvfb = sh("command -v Xvfb > /dev/null 2>&1");
+  const std::string display = ":" + std::to_string(50 + getpid() % 200);
+  std::unique_ptr<Child> x_server;
+  if (xvfb) x_server.reset(new Child("Xvfb " + display + " -nolisten tcp -screen 0 1280x1024x24", g_dir + "/xvfb.log"));
+  else std::printf("[ SKIPPED  ] rviz:=true: Xvfb is not installed (apt-get install xvfb)\n");
+  Child launch(std::string(xvfb ? "env DISPLAY=" + display + " " : "") + "roslaunch iraf_vo euroc.launch bag:=" + bag +
+               " image:=/cam0/image_raw/compressed delay:=2 rate:=0.5 loop:=true rviz:=" + (xvfb ? "true" : "false") +
+               " base_frame:=base_link base_from_camera_file:=true trajectory_file:=" + traj + " record:=" + g_dir +
                "/rec", log);
   Child echo_status("rostopic echo -n 1 /tracking_status", g_dir + "/echo_tracking_status.txt");
   Child echo_events("rostopic echo -n 1 /tracking_events", g_dir + "/echo_tracking_events.txt");
@@ -113,6 +134,12 @@ TEST(LaunchFiles, EurocWithACompressedBag) {
   }
   EXPECT_TRUE(waitFor([&] { return tf.canTransform("base_link", "cam0", ros::Time(0)); }, 5.0))
       << "no static TF base_link -> cam0 from base_from_camera_file";
+  if (xvfb) {
+    EXPECT_TRUE(sh("timeout 20 rosnode ping -c 1 /rviz > /dev/null 2>&1")) << "rviz is not running; " << readFile(log);
+    std::istringstream lines(readFile(log));
+    for (std::string line; std::getline(lines, line);)
+      EXPECT_FALSE(line.find("[rviz-") != std::string::npos && line.find("has died") != std::string::npos) << line;
+  }
   // The README's command-line checks on the running graph (the echoes started with the launch: the bag is short).
   for (const std::string& topic : {"tracking_status", "tracking_events", "diagnostics"}) {
     const std::string out = g_dir + "/echo_" + topic + ".txt";
@@ -145,9 +172,21 @@ TEST(LaunchFiles, TumviWithAFisheyeBag) {
   ASSERT_FALSE(bag.empty()) << "cannot render the bag (see " << g_dir << ")";
   Watch w;
   const std::string log = g_dir + "/tumvi.log";
-  Child launch("roslaunch iraf_vo tumvi.launch bag:=" + bag + " delay:=2", log);
+  Child launch("roslaunch iraf_vo tumvi.launch bag:=" + bag + " delay:=2 loop:=true", log);
   EXPECT_TRUE(waitFor([&] { return w.odomCount() >= 20; }, 90.0)) << "no odometry; " << readFile(log);
   EXPECT_TRUE(w.hasNewMap(1));
+  // The README's tuning and reset from the command line on the running graph (the bag loops: frames keep coming).
+  const std::string out = g_dir + "/tumvi_cli.txt";
+  EXPECT_TRUE(sh("timeout 30 rosrun dynamic_reconfigure dynparam set /enhance mu_expected 60 > " + out + " 2>&1"))
+      << readFile(out);
+  EXPECT_TRUE(sh("timeout 30 rosrun dynamic_reconfigure dynparam get /enhance > " + out + " 2>&1")) << readFile(out);
+  EXPECT_NE(readFile(out).find("'mu_expected': 60.0"), std::string::npos) << "dynparam get /enhance: " << readFile(out);
+  EXPECT_TRUE(sh("timeout 30 rosservice call /tracker/reset > " + out + " 2>&1")) << readFile(out);
+  EXPECT_NE(readFile(out).find("success: True"), std::string::npos) << readFile(out);
+  EXPECT_TRUE(waitFor([&] { return w.hasNewMap("restart"); }, 30.0))
+      << "no NEW_MAP (restart) after rosservice call /tracker/reset; " << readFile(log);
+  launch.stop();  // the console (INFO on stdout) is complete once roslaunch exits
+  EXPECT_NE(readFile(log).find("enhance: mu_expected 112 -> 60"), std::string::npos) << readFile(log);
 }
 
 TEST(LaunchFiles, LiveCameraFedByABag) {
@@ -170,6 +209,25 @@ TEST(LaunchFiles, LiveCameraFedByABag) {
   }
   EXPECT_TRUE(waitFor([&] { return tf.canTransform("base_link", "cam0", ros::Time(0)); }, 5.0))
       << "no base_link -> cam0 from publish_camera_tf";
+}
+
+TEST(LaunchFiles, LiveRectifiedCameraWithCameraInfo) {
+  // A rectified camera: the room through a distortion-free pinhole, played onto /camera/image_rect, the calibration
+  // only from /camera/camera_info (P), as image_proc's outputs would give.
+  const std::string yaml = g_dir + "/pinhole.yaml";
+  ASSERT_TRUE(sh("sed 's/^distortion_coefficients:.*/distortion_coefficients: [0, 0, 0, 0]/' " + kConfig +
+                 "euroc_cam0.yaml > " + yaml));
+  const std::string raw_bag = renderBag("rect", yaml, "--topic /camera/image_raw");
+  ASSERT_FALSE(raw_bag.empty());
+  Watch w;
+  const std::string log = g_dir + "/rect.log";
+  Child launch("roslaunch iraf_vo live.launch camera:=/camera image:=/camera/image_rect rectified:=true "
+               "transport:=raw", log);
+  Child info("rostopic pub -r 5 /camera/camera_info sensor_msgs/CameraInfo \"{width: 752, height: 480, "
+             "P: [458.654, 0, 367.215, 0, 0, 457.296, 248.375, 0, 0, 0, 1, 0]}\"", g_dir + "/rect_info.log");
+  ros::WallDuration(3.0).sleep();  // the nodelets subscribe and get the calibration
+  Child player("rosbag play -q " + raw_bag + " /camera/image_raw:=/camera/image_rect", g_dir + "/rect_play.log");
+  EXPECT_TRUE(waitFor([&] { return w.odomCount() >= 20; }, 90.0)) << "no odometry; " << readFile(log);
 }
 
 TEST(LaunchFiles, TumviStereoWithASimulatedStereoBag) {
