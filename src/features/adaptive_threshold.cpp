@@ -143,10 +143,19 @@ double meanGradientMagnitude(const cv::Mat& gray) {
   return meanGradientMagnitude(gray, &sobel_rows);
 }
 
+double meanDeviationFrom(const Histogram256& h, int t_o) {
+  uint64_t n = 0, dev = 0;
+  for (int b = 0; b < 256; ++b) {
+    n += h[b];
+    dev += static_cast<uint64_t>(h[b]) * static_cast<uint64_t>(b > t_o ? b - t_o : t_o - b);
+  }
+  return n > 0 ? static_cast<double>(dev) / static_cast<double>(n) : 0.0;
+}
+
 void CellThresholdEstimator::measureCells(const cv::Mat& img, const CellGrid& g, int center_window,
-                                          Histogram256* level_hist) {
+                                          bool cell_mean, Histogram256* level_hist) {
   otsu_.resize(g.cells());
-  center_.resize(g.cells());
+  contrast_.resize(g.cells());
   const int hw = center_window / 2;
   for (int i = 0; i < g.n_rows; ++i) {
     const int y0 = g.y0(i), y1 = std::min(y0 + g.h_cell, g.max_y);
@@ -155,7 +164,7 @@ void CellThresholdEstimator::measureCells(const cv::Mat& img, const CellGrid& g,
       const int c = i * g.n_cols + j;
       if (y1 <= y0 || x1 <= x0) {
         otsu_[c] = 0;
-        center_[c] = 0;
+        contrast_[c] = 0;
         continue;
       }
       Histogram256 h{};
@@ -163,6 +172,10 @@ void CellThresholdEstimator::measureCells(const cv::Mat& img, const CellGrid& g,
       if (level_hist)
         for (int b = 0; b < 256; ++b) (*level_hist)[b] += h[b];
       otsu_[c] = otsuThreshold(h);  // eqs. (16)-(18): t_o of the subregion
+      if (cell_mean) {  // |I_m - t_o| of eq. (19) averaged over every position of I_m in the cell
+        contrast_[c] = meanDeviationFrom(h, otsu_[c]);
+        continue;
+      }
       // I_m of eq. (19). The paper uses the single centre pixel G(size/2, size/2); here the mean of a
       // center_window^2 patch at the centre (center_window = 1 gives the paper's pixel), because one
       // pixel makes F_t^l follow sensor noise.
@@ -173,7 +186,7 @@ void CellThresholdEstimator::measureCells(const cv::Mat& img, const CellGrid& g,
         const uint8_t* row = img.ptr<uint8_t>(r);
         for (int x = win.x; x < win.x + win.width; ++x) sum += row[x];
       }
-      center_[c] = static_cast<double>(sum) / win.area();
+      contrast_[c] = std::abs(static_cast<double>(sum) / win.area() - otsu_[c]);
     }
   }
 }
@@ -186,7 +199,7 @@ double CellThresholdEstimator::estimate(const cv::Mat& img, const CellGrid& g, c
     return p.min_th_fast;
   }
   Histogram256 level_hist{};
-  measureCells(img, g, p.center_window, level0 ? &level_hist : nullptr);  // F_h is of level 0 only
+  measureCells(img, g, p.center_window, p.cell_mean_contrast, level0 ? &level_hist : nullptr);  // F_h is of level 0 only
   // The global metrics (eqs. 13-15) are computed once, on level 0 (the enhanced image, as in the paper):
   // F_h over the detection area (the union of the level-0 cells), F_g over the whole image. Every level
   // uses this F_t^g as the upper clip; the per-cell F_t^l adapts to each level.
@@ -196,7 +209,7 @@ double CellThresholdEstimator::estimate(const cv::Mat& img, const CellGrid& g, c
     st->global_threshold = globalThreshold(st->entropy, st->gradient, p.alpha, p.beta);  // eq. (15): F_t^g
   }
   for (int c = 0; c < g.cells(); ++c) {
-    const double ft_l = localThreshold(center_[c], otsu_[c], p.delta);       // eq. (19): F_t^l
+    const double ft_l = p.delta * contrast_[c];                              // eq. (19): F_t^l
     (*thresholds)[c] = clipThreshold(ft_l, p.ft_min, st->global_threshold);  // eq. (20): F_t
   }
   return p.ft_min;

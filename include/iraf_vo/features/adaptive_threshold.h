@@ -46,6 +46,10 @@ int otsuThresholdReference(const Histogram256& h);
 /// eq. (19): F_t^l = delta * |I_m - t_o|.
 inline double localThreshold(double i_m, double t_o, double delta) { return delta * std::abs(i_m - t_o); }
 
+/// mean over the histogram's pixels of |I - t_o|: eq. (19)'s |I_m - t_o| averaged over every position of I_m
+/// (FeatureParams::cell_mean_contrast). 0 for an empty histogram.
+double meanDeviationFrom(const Histogram256& h, int t_o);
+
 /// eq. (20): F_t = clip(F_t^l, F_t,min^l, F_t^g). When F_t^g < F_t,min the lower bound wins
 /// (the result is never below ft_min).
 inline double clipThreshold(double ft_local, double ft_min, double ft_global) {
@@ -64,11 +68,13 @@ class CellThresholdEstimator {
                   std::vector<double>* thresholds);
 
  private:
-  /// Otsu t_o (eqs. 16-18) and I_m (eq. 19) of every cell; adds the cells' histograms to *level_hist if given.
-  void measureCells(const cv::Mat& level, const CellGrid& grid, int center_window, Histogram256* level_hist);
+  /// Otsu t_o (eqs. 16-18) and the contrast |I_m - t_o| of eq. (19) of every cell (I_m: the centre_window patch,
+  /// or every pixel of the cell when cell_mean); adds the cells' histograms to *level_hist if given.
+  void measureCells(const cv::Mat& level, const CellGrid& grid, int center_window, bool cell_mean,
+                    Histogram256* level_hist);
 
   std::vector<int> otsu_;
-  std::vector<double> center_;
+  std::vector<double> contrast_;  // |I_m - t_o| per cell
   cv::Mat sobel_rows_;  // scratch of meanGradientMagnitude
 };
 
