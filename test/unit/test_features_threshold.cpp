@@ -157,3 +157,83 @@ TEST(AdaptiveThreshold, GradientKernelsEqualReferenceBitForBit) {
   }
   gradientUseAvx2(true);
 }
+
+namespace {
+
+// A scene-like texture: random grey rectangles on a grey background, slightly blurred.
+cv::Mat rectangleTexture(cv::Size size, unsigned seed) {
+  cv::RNG rng(seed);
+  cv::Mat img(size, CV_8UC1, cv::Scalar(110));
+  for (int k = 0; k < 900; ++k) {
+    const int x = rng.uniform(0, size.width), y = rng.uniform(0, size.height);
+    const int w = rng.uniform(3, 40), h = rng.uniform(3, 40);
+    cv::rectangle(img, cv::Rect(x, y, w, h), cv::Scalar(rng.uniform(30, 220)), cv::FILLED);
+  }
+  cv::GaussianBlur(img, img, cv::Size(5, 5), 1.2);
+  return img;
+}
+
+// Median over the level-0 cells of |F_t(b) - F_t(a)| / max(F_t(a), F_t(b)), with the clips of eq. (20) opened so
+// the local term of eq. (19) alone decides.
+double medianRelativeThresholdChange(const cv::Mat& a, const cv::Mat& b, bool cell_mean) {
+  FeatureParams p;
+  p.cell_mean_contrast = cell_mean;
+  p.alpha = 10.0;
+  p.ft_min = 1.0;
+  const CellGrid g = cellGridOfLevel(a.cols, a.rows, p.cell_size);
+  CellThresholdEstimator est;
+  FeatureStats st;
+  std::vector<double> ta, tb;
+  est.estimate(a, g, p, true, &st, &ta);
+  est.estimate(b, g, p, true, &st, &tb);
+  std::vector<double> rel;
+  for (size_t c = 0; c < ta.size(); ++c) rel.push_back(std::abs(tb[c] - ta[c]) / std::max({ta[c], tb[c], 1.0}));
+  std::nth_element(rel.begin(), rel.begin() + rel.size() / 2, rel.end());
+  return rel[rel.size() / 2];
+}
+
+}  // namespace
+
+TEST(AdaptiveThreshold, MeanDeviationIsTheCellAverageOfTheCentreContrast) {
+  // meanDeviationFrom(h, t_o) = |I_m - t_o| of eq. (19) averaged over every pixel of the cell taken as I_m.
+  const cv::Mat img = rectangleTexture(cv::Size(70, 50), 3);
+  Histogram256 h{};
+  accumulateHistogram(img, &h);
+  const int t_o = otsuThreshold(h);
+  double sum = 0.0;
+  for (int r = 0; r < img.rows; ++r)
+    for (int c = 0; c < img.cols; ++c) sum += std::abs(img.at<uint8_t>(r, c) - t_o);
+  EXPECT_NEAR(meanDeviationFrom(h, t_o), sum / img.total(), 1e-9);
+  EXPECT_EQ(meanDeviationFrom(Histogram256{}, 7), 0.0);
+}
+
+TEST(AdaptiveThreshold, CellThresholdsFollowTheCellNotTheContentUnderItsCentre) {
+  // The camera moves 2 px right, 1 px down between two frames: the cells' content barely changes, so their FAST
+  // thresholds should not either. The centre patch's |I_m - t_o| jumps wherever an edge crosses the centre
+  // (median change 0.3-0.5 of the threshold on this texture); the cell average moves by a few percent.
+  const cv::Mat scene = rectangleTexture(cv::Size(760, 490), 11);
+  const cv::Mat a = scene(cv::Rect(4, 4, 752, 480)), b = scene(cv::Rect(2, 3, 752, 480));
+  const double cell = medianRelativeThresholdChange(a, b, true);
+  const double centre = medianRelativeThresholdChange(a, b, false);
+  EXPECT_LT(cell, 0.08);
+  EXPECT_GT(centre, 2.0 * cell);
+  // An exposure step (x1.6, no clipping) scales the cell contrast with the gain, as FAST scores scale.
+  cv::Mat dim, bright;
+  a.convertTo(dim, CV_8U, 0.5);
+  a.convertTo(bright, CV_8U, 0.8);
+  FeatureParams p;
+  p.alpha = 10.0;
+  p.ft_min = 1.0;
+  const CellGrid g = cellGridOfLevel(a.cols, a.rows, p.cell_size);
+  CellThresholdEstimator est;
+  FeatureStats st;
+  std::vector<double> td, tb;
+  est.estimate(dim, g, p, true, &st, &td);
+  est.estimate(bright, g, p, true, &st, &tb);
+  std::vector<double> ratio;
+  for (size_t c = 0; c < td.size(); ++c)
+    if (td[c] > 2.0) ratio.push_back(tb[c] / td[c]);
+  ASSERT_GT(ratio.size(), td.size() / 2);
+  std::nth_element(ratio.begin(), ratio.begin() + ratio.size() / 2, ratio.end());
+  EXPECT_NEAR(ratio[ratio.size() / 2], 1.6, 0.1);
+}
