@@ -36,7 +36,7 @@ const ParamTable<FeatureParams>& featureParamTable() {
                    "eq. 19: I_m = mean of this odd window at the cell centre (1 = paper's single pixel)", /*odd=*/true),
           boolParam("cell_mean_contrast", &P::cell_mean_contrast,
                     "eq. 19 over the whole cell: F_t^l = delta mean|I - t_o| (stable under motion and exposure "
-                    "steps); off: |I_m - t_o| of the centre_window patch"),
+                    "steps); off (default): |I_m - t_o| of the centre_window patch"),
           boolParam("culling", &P::culling, "On: remove keypoints with stability S < s_min (eqs. 21-23)"),
           intParam("min_node_size", &P::min_node_size, 1, 512,
                    "eq. 21: quad-tree leaves are not split below this side [level-0 px]"),

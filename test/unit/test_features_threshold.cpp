@@ -222,6 +222,7 @@ TEST(AdaptiveThreshold, CellThresholdsFollowTheCellNotTheContentUnderItsCentre) 
   a.convertTo(dim, CV_8U, 0.5);
   a.convertTo(bright, CV_8U, 0.8);
   FeatureParams p;
+  p.cell_mean_contrast = true;
   p.alpha = 10.0;
   p.ft_min = 1.0;
   const CellGrid g = cellGridOfLevel(a.cols, a.rows, p.cell_size);

@@ -38,10 +38,10 @@ struct FeatureParams {
   // (1 = the paper's single centre pixel; larger is robust to noise).
   int center_window = 5;
   // I_m of eq. (19) over the whole cell: F_t^l = delta * mean over the cell's pixels of |I - t_o|, the expectation of
-  // |I_m - t_o| over where the centre falls. The centre patch makes a cell's threshold jump between ft_min and F_t^g
-  // as the content under it moves or the exposure changes; the cell mean does not (ae_hunting pinhole ATE 7.0 vs 11.1
-  // mm over n_features perturbations, docs/decisions.md). false: the centre_window patch (the paper's form).
-  bool cell_mean_contrast = true;
+  // |I_m - t_o| over where the centre falls. The centre patch makes a cell's threshold jump as the content under it
+  // moves (median change 14 % for a 2-px shift vs 2 %). Not the default: sim ae_hunting pinhole ATE 9.3 / 7.6 mm vs
+  // 11.1 / 8.4 (means over n_features 990-1010), but clean EuRoC 0-305 4.74 mm vs 4.38 (docs/decisions.md).
+  bool cell_mean_contrast = false;
   // FAST with the per-cell thresholds. true: each row of cells in one FAST-9 pass whose threshold is per
   // column (= every cell's own F_t of eq. 20, detectFast9), ~1.02x faster front-end. false (default): the
   // reference path, the corners of cv::FAST per row of cells at a strip threshold + per run of lower-threshold
