@@ -34,7 +34,7 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in, bool has_right, RightFe
   updateStats([](TrackerStats& s) { s.frames++; });
   // Bad frame: report it as not tracked, keep the state machine as is.
   if (!ok_input) return notTracked(state == TrackingState::kTracking ? TrackingState::kLost : state.load(), t_start, res);
-  res.too_dark = signal.tooDark(in.signal);
+  res.too_dark = signal.noSignal(in.signal);
   const bool was_dark = last_dark;
   last_dark = !res.too_dark.empty();
   if (last_dark) {

@@ -127,6 +127,8 @@ const ParamTable<TrackerParams>& trackerParamTable() {
                       "A dark image is too dark below this estimated SNR (contrast / noise of its 4x4-pixel means)"),
           doubleParam("dark_min_contrast", &P::dark_min_contrast, 0.0, 255.0,
                       "A dark image is too dark below this contrast of its 4x4-pixel means above the noise [grey levels]"),
+          doubleParam("washout_min_clipped", &P::washout_min_clipped, 0.0, 1.0,
+                      "An image with at least this fraction of its 4x4-pixel means clipped white (>= 250) is washed out: no usable signal, like a dark one (1 = never)"),
           intParam("dark_relocalization_frames", &P::dark_relocalization_frames, 0, 100000,
                    "After dark frames: for this many frames a loss resets the map only after this many lost frames (relocalization in the same map)"),
           boolParam("health_monitor", &P::health_monitor,

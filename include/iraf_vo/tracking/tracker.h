@@ -103,7 +103,8 @@ struct TrackerStats {
   long initializations = 0;
   long keyframes = 0;
   long rejected = 0;               // tracked poses rejected by the health monitor (counted as lost frames)
-  long dark_frames = 0;            // frames too dark to track (counted as lost frames; the map is kept)
+  long dark_frames = 0;            // frames without usable signal, too dark or washed out (counted as lost
+                                   // frames; the map is kept)
   long dark_events = 0;            // runs of consecutive dark frames
   long relocalizations = 0;        // tracked again in the same map after dark frames (no reset)
   long frames_to_relocalize_max = 0;  // frames with signal needed by the slowest of those relocalizations

@@ -95,6 +95,8 @@ struct TrackerParams {
   double dark_min_snr = 1.0;            // ... it is when its estimated SNR (contrast / noise of its 4x4-pixel
                                         // means, image_signal.h) is below this
   double dark_min_contrast = 0.3;       // ... or the contrast of those means above the noise is below this [grey]
+  double washout_min_clipped = 0.85;    // an image with at least this fraction of its 4x4-pixel means clipped
+                                        // white (>= 250) is washed out: no usable signal either (1 = never)
   int dark_relocalization_frames = 40;  // for this many frames after dark ones a loss resets the map only after
                                         // this many lost frames (instead of lost_frames_before_reset): the
                                         // tracker relocalizes in the same map meanwhile
