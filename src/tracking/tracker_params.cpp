@@ -105,6 +105,8 @@ const ParamTable<TrackerParams>& trackerParamTable() {
                       "Stereo: ... and farther than this many baselines (about where the disparity reaches the epipolar tolerance)"),
           intParam("stereo_init_min_points", &P::stereo_init_min_points, 8, 10000,
                    "Stereo: points the first (metric) map needs from one frame"),
+          boolParam("stereo_match_every_frame", &P::stereo_match_every_frame,
+                    "Stereo: match left-right on every frame (right residuals in every pose refinement); false: on keyframes only"),
           intParam("ba_window_size", &P::ba_window_size, 2, 100, "Keyframes optimized by the sliding-window BA"),
           intParam("max_map_keyframes", &P::max_map_keyframes, 2, 1000,
                    "Keyframes kept in the map (older are dropped; >= ba_window_size)"),
