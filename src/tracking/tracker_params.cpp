@@ -107,6 +107,8 @@ const ParamTable<TrackerParams>& trackerParamTable() {
                    "Stereo: points the first (metric) map needs from one frame"),
           boolParam("stereo_match_every_frame", &P::stereo_match_every_frame,
                     "Stereo: match left-right on every frame (right residuals in every pose refinement); false: on keyframes only"),
+          intParam("stereo_ba_max_iterations", &P::stereo_ba_max_iterations, 0, 200,
+                   "Stereo: Levenberg-Marquardt iterations per local BA of a stereo map (ba_max_num_iterations: monocular)"),
           intParam("ba_window_size", &P::ba_window_size, 2, 100, "Keyframes optimized by the sliding-window BA"),
           intParam("max_map_keyframes", &P::max_map_keyframes, 2, 1000,
                    "Keyframes kept in the map (older are dropped; >= ba_window_size)"),
