@@ -62,6 +62,7 @@ struct Tracker::Impl {
     if (!rig.right) return;
     stereo = std::make_unique<StereoFrame>(rig, p);
     mapper.setStereo(&rig);
+    pose_tracker.setStereo(&rig);
   }
 
   template <class F>

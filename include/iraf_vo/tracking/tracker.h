@@ -91,6 +91,7 @@ struct TrackResult {
   bool stereo = false;         // stereo tracker: the right image of this frame was used
   bool right_missing = false;  // stereo tracker: this frame had no right image (tracked with the left camera)
   int stereo_matches = 0;      // stereo tracker: left-right matches of this frame (0 when not matched)
+  int right_inliers = 0;       // stereo tracker: right-image residuals in this frame's final pose refinement
   TrackTiming timing;
 };
 

@@ -76,6 +76,12 @@ struct TrackerParams {
   double stereo_min_depth = 0.1;            // stereo points closer than this are dropped [m]
   double stereo_max_depth_baselines = 200.0;  // ... and farther than this many baselines (stereo_matcher.h)
   int stereo_init_min_points = 100;         // stereo points the first (metric) map needs from one frame
+  bool stereo_match_every_frame = false;    // true: left-right matching (and the right front-end) on every frame,
+                                            // right residuals in every pose refinement; false: on the
+                                            // initialization and keyframes only, whose pose is refined again
+                                            // with them (docs/stereo.md)
+  int stereo_ba_max_iterations = 5;         // local BA iterations of a stereo map (ba_max_num_iterations: of a
+                                            // monocular one): its cost falls < 0.1 % per iteration after ~4
   // ---- sliding-window BA ----
   int ba_window_size = 10;
   int max_map_keyframes = 25;           // keyframes kept (older are dropped); the local BA's fixed anchors are the
