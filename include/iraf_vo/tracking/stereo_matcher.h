@@ -31,6 +31,8 @@ struct StereoMatch {
   int left = -1;                                 // keypoint index in the left frame
   int right = -1;                                // keypoint index in the right frame
   Eigen::Vector3d p_l = Eigen::Vector3d::Zero();  // the triangulated point in the left camera frame [m]
+  Eigen::Vector2d uv_r = Eigen::Vector2d::Zero();  // the right pixel (refined along the epipolar curve when the
+                                                   // images were given, else the right keypoint's)
   double depth() const { return p_l.norm(); }    // distance from the left camera centre
 };
 
@@ -39,15 +41,23 @@ class StereoMatcher {
   /// rig and params must outlive the matcher.
   StereoMatcher(const StereoRig& rig, const TrackerParams& params);
 
-  /// The checked matches of one stereo frame (left and right: the same exposure, undistorted by Frame).
-  std::vector<StereoMatch> match(const Frame& left, const Frame& right) const;
-  /// The same from the right image's features; fills left->right_obs (the match's right pixel and sigma per left
-  /// keypoint). false (no matches, right_obs empty) when the right features are unusable.
-  bool matchRight(Frame* left, const FeatureFrame& right, std::vector<StereoMatch>* matches) const;
+  /// The checked matches of one stereo frame (left and right: the same exposure, undistorted by Frame). With both
+  /// images (8-bit, the keypoints' level 0), each right pixel is refined along the epipolar curve first
+  /// (stereo_refinement.h; a match whose refinement fails is dropped), then triangulated and checked.
+  std::vector<StereoMatch> match(const Frame& left, const Frame& right, const cv::Mat& left_image = cv::Mat(),
+                                 const cv::Mat& right_image = cv::Mat()) const;
+  /// The same from the right image's features (and right.image when left_image is given too); fills
+  /// left->right_obs (the match's right pixel and sigma per left keypoint). false (no matches, right_obs empty) when
+  /// the right features are unusable.
+  bool matchRight(Frame* left, const FeatureFrame& right, std::vector<StereoMatch>* matches,
+                  const cv::Mat& left_image = cv::Mat()) const;
 
   double maxDepth() const { return max_depth_; }
 
  private:
+  /// Left keypoint i's right pixel and bearing refined along the epipolar curve (step: the finer octave's pixel).
+  bool refineRight(const Frame& left, size_t i, int right_octave, const cv::Mat& left_image, const cv::Mat& right_image,
+                   Eigen::Vector2d* uv_r, Eigen::Vector3d* b_r) const;
   const StereoRig& rig_;
   const TrackerParams& p_;
   Eigen::Matrix3d E_;  // b_r^T E b_l = 0
