@@ -124,13 +124,15 @@ bool StereoMatcher::refineRight(const Frame& left, size_t i, int right_octave, c
   Eigen::Vector2d a, b;
   if (!rig_.right->project(rb + (rho + eps) * t, &a) || !rig_.right->project(rb + std::max(0.0, rho - eps) * t, &b))
     return false;
-  const Eigen::Vector2d dir = a - b;
-  if (!(dir.norm() > 1e-6)) return false;
+  if (!((a - b).norm() > 1e-6)) return false;
+  const Eigen::Vector2d dir = (a - b).normalized();
+  // The search starts at the right keypoint moved onto the epipolar line (its level-grid offset across the line
+  // would otherwise stay in the observation).
+  const Eigen::Vector2d start = b + dir * (*uv_r - b).dot(dir);
   const cv::KeyPoint& kl = left.keypoints[i];
   const double step = left.sigma(std::min(kl.octave, right_octave));
   Eigen::Vector2d refined;
-  if (!refineAlongEpipolar(left_image, right_image, Eigen::Vector2d(kl.pt.x, kl.pt.y), *uv_r, dir.normalized(), step,
-                           &refined))
+  if (!refineAlongEpipolar(left_image, right_image, Eigen::Vector2d(kl.pt.x, kl.pt.y), start, dir, step, &refined))
     return false;
   Eigen::Vector3d bearing;
   if (!rig_.right->unproject(refined, &bearing) || !bearing.allFinite() || !(bearing.norm() > 0.5)) return false;
