@@ -18,6 +18,13 @@ using namespace iraf_vo::test;
 
 namespace {
 
+/// The tracker's frames of a pair of feature frames (one camera model for both).
+void toFrames(const FeatureFrame& fl, const FeatureFrame& fr, const CameraModel& cam, Frame* left, Frame* right) {
+  std::string err;
+  ASSERT_TRUE(Frame::fromFeatures(fl, cam, 0, left, &err)) << err;
+  ASSERT_TRUE(Frame::fromFeatures(fr, cam, 0, right, &err)) << err;
+}
+
 /// A rig with a 0.12 m baseline and a 2 deg toe-in (not rectified).
 StereoRig syntheticRig(CameraModelPtr cam) {
   StereoRig rig;
@@ -37,9 +44,7 @@ void checkSyntheticPair(CameraModelPtr cam) {
   FeatureFrame fr = world.render(*cam, T_w_l * rig.T_r_l.inverse(), 0.0, 0.3, 4);
   TrackerParams p;
   Frame left, right;
-  std::string err;
-  ASSERT_TRUE(Frame::fromFeatures(fl, *cam, 0, &left, &err)) << err;
-  ASSERT_TRUE(Frame::fromFeatures(fr, *cam, 0, &right, &err)) << err;
+  ASSERT_NO_FATAL_FAILURE(toFrames(fl, fr, *cam, &left, &right));
   const StereoMatcher matcher(rig, p);
   const std::vector<StereoMatch> matches = matcher.match(left, right);
   // Which world point each keypoint shows: the nearest projection.
@@ -140,9 +145,7 @@ TEST(StereoMatcher, FarPlaneDepthWithSubPixelRefinement) {
   ASSERT_FALSE(fl.image.empty());
   TrackerParams p;
   Frame left, right;
-  std::string err;
-  ASSERT_TRUE(Frame::fromFeatures(fl, *cam, 0, &left, &err)) << err;
-  ASSERT_TRUE(Frame::fromFeatures(fr, *cam, 0, &right, &err)) << err;
+  ASSERT_NO_FATAL_FAILURE(toFrames(fl, fr, *cam, &left, &right));
   const StereoMatcher matcher(rig, p);
   auto depthErrors = [&](const std::vector<StereoMatch>& matches, double* median, double* mean) {
     std::vector<double> rel;
