@@ -42,7 +42,7 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in, bool has_right, RightFe
     return darkFrame(t_start, res);
   }
   signal.lightFrame();
-  if (stereo) beginStereo(has_right, std::move(right), &res);
+  if (stereo) beginStereo(has_right, std::move(right), in.image, &res);
 
   if (state == TrackingState::kNotInitialized || state == TrackingState::kInitializing) {
     t0 = SteadyClock::now();

@@ -72,7 +72,7 @@ struct Tracker::Impl {
   }
 
   TrackResult track(const FeatureFrame& in, bool has_right = false, RightFeatures right = RightFeatures());
-  void beginStereo(bool has_right, RightFeatures right, TrackResult* res);
+  void beginStereo(bool has_right, RightFeatures right, const cv::Mat& left_image, TrackResult* res);
   const std::vector<StereoMatch>& stereoMatches(Frame& cur, TrackResult* res);
   bool initializeMap(Frame& cur, TrackResult* res);
   bool initializeStereo(Frame& cur, TrackResult* res);
