@@ -223,6 +223,20 @@ std::vector<int> Matcher::searchForTriangulation(const Keyframe& kf1, const std:
     gate.push_back(1.96 * kf2.sigma(kf2.keypoints[j].octave) / f);
   }
   const EpipolarIndex index(t21, bearings2, gate);
+  std::vector<std::pair<int, int>> on_line;  // (candidate, Hamming distance) within the gate
+  // Repeated texture along the line (a facade's windows on the horizon, where forward motion makes the epipolar
+  // lines horizontal) matches a wrong copy: a point far too close that drags the monocular scale down. The best must
+  // beat every candidate farther than kSameCornerPx from it (closer ones are the same corner at another octave).
+  const auto distinctOnLine = [this](int best, const cv::Point2f& at, const std::vector<std::pair<int, int>>& line,
+                                     const std::vector<int>& cand, const Keyframe& kf) {
+    constexpr float kSameCornerPx = 5.f;
+    int other = 256;
+    for (const auto& [c, d] : line) {
+      const cv::Point2f q = kf.keypoints[cand[c]].pt;
+      if (std::hypot(q.x - at.x, q.y - at.y) > kSameCornerPx) other = std::min(other, d);
+    }
+    return best <= p_.triangulation_match_ratio * other;
+  };
   for (size_t i = 0; i < kf1.keypoints.size(); ++i) {
     if (used1[i]) continue;
     Eigen::Vector3d n = t21.cross(R21 * kf1.bearings[i]);  // epipolar plane normal in frame 2
@@ -232,9 +246,11 @@ std::vector<int> Matcher::searchForTriangulation(const Keyframe& kf1, const std:
     const uint8_t* d1 = kf1.descriptors.ptr<uint8_t>(static_cast<int>(i));
     // The closest descriptor among the candidates within the gate; ties go to the lowest candidate index.
     int best = p_.match_threshold_low + 1, best_c = -1;
+    on_line.clear();
     index.forEachNear(n, [&](int c) {
       if (!(std::abs(n.dot(bearings2[c])) <= gate[c])) return;
       const int d = hammingDistance(d1, kf2.descriptors.ptr<uint8_t>(candidates2[c]));
+      on_line.emplace_back(c, d);
       if (d < best || (d == best && best_c >= 0 && c < best_c)) {
         best = d;
         best_c = c;
@@ -242,6 +258,7 @@ std::vector<int> Matcher::searchForTriangulation(const Keyframe& kf1, const std:
     });
     if (best_c < 0) continue;
     const int best_j = candidates2[best_c];
+    if (!distinctOnLine(best, kf2.keypoints[best_j].pt, on_line, candidates2, kf2)) continue;
     if (best >= dist_of_2[best_j]) continue;
     dist_of_2[best_j] = best;
     match_of_2[best_j] = static_cast<int>(i);

@@ -91,6 +91,8 @@ const ParamTable<TrackerParams>& trackerParamTable() {
                    "Covisible keyframes used for new points"),
           doubleParam("min_triangulation_parallax_deg", &P::min_triangulation_parallax_deg, 0.0, 30.0,
                       "Minimum parallax of a new point [deg]"),
+          doubleParam("triangulation_match_ratio", &P::triangulation_match_ratio, 0.1, 1.0,
+                      "New points: best match on the epipolar line < this x the best elsewhere on it (1 = off)"),
           doubleParam("min_found_ratio", &P::min_found_ratio, 0.0, 1.0,
                       "Cull recent points found in fewer than this fraction of the frames that saw them"),
           intParam("fuse_neighbors", &P::fuse_neighbors, 0, 50,

@@ -1,5 +1,5 @@
 // Unit tests of the tracker's matching: the match set's links, the descriptor distance and the epipolar search
-// for triangulation.
+// for triangulation (including repeated texture along the epipolar line).
 #include <iraf_vo/tracking/map.h>
 #include <iraf_vo/tracking/matcher.h>
 
@@ -83,6 +83,90 @@ TEST(MatcherTest, SearchForTriangulationPicksTheKeypointOnTheEpipolarLine) {
   }
   EXPECT_EQ(decoys, 0);
   EXPECT_GE(correct, n * 95 / 100);
+}
+
+// Forward motion past a far facade with a repeated pattern: keyframe 2 is 3 m ahead, the points are 200-400 m away
+// near the horizon (their epipolar lines run along the image rows). In keyframe 2 the true keypoint is hidden and
+// two copies of the pattern lie on the line (at the projections of 20 m and 10 m along keyframe 1's ray), each with
+// 2-3 bits of descriptor noise. Matching either copy makes a point 15-30x too close; the distinctness test
+// (triangulation_match_ratio) refuses both, while the same corner detected at two octaves 1 px apart still matches.
+struct FacadeViews {
+  Frame f1, f2;
+  Eigen::Isometry3d T_21;
+  int n = 0;
+};
+
+FacadeViews facadeViews(const CameraModel& cam, bool true_keypoint_visible) {
+  FacadeViews v;
+  v.T_21 = test::makePose({0, 0, 0}, {0, 0, -3.0});
+  v.n = 100;
+  cv::RNG rng(7);
+  v.f1.descriptors.create(v.n, 32, CV_8U);
+  rng.fill(v.f1.descriptors, cv::RNG::UNIFORM, 0, 256);
+  std::vector<cv::Mat> rows2;
+  auto noisy = [&](int i, int bits) {
+    cv::Mat d = v.f1.descriptors.row(i).clone();
+    for (int b = 0; b < bits; ++b) d.at<uint8_t>(0, b) ^= 0x1;
+    return d;
+  };
+  auto add2 = [&](const Eigen::Vector3d& p2, float dx, int octave, const cv::Mat& d) {
+    Eigen::Vector2d uv;
+    ASSERT_TRUE(cam.project(p2, &uv));
+    v.f2.keypoints.emplace_back(static_cast<float>(uv.x()) + dx, static_cast<float>(uv.y()), 31.f, 0.f, 0.f, octave);
+    Eigen::Vector3d b;
+    ASSERT_TRUE(cam.unproject(Eigen::Vector2d(uv.x() + dx, uv.y()), &b));
+    v.f2.bearings.push_back(b);
+    rows2.push_back(d);
+  };
+  for (int i = 0; i < v.n; ++i) {
+    const double side = i % 2 ? 1.0 : -1.0;
+    const Eigen::Vector3d ray(side * rng.uniform(0.3, 0.6), rng.uniform(-0.05, 0.05), 1.0);
+    const Eigen::Vector3d p1 = rng.uniform(200.0, 400.0) * ray;
+    Eigen::Vector2d uv1;
+    EXPECT_TRUE(cam.project(p1, &uv1));
+    v.f1.keypoints.emplace_back(uv1.x(), uv1.y(), 31.f);
+    v.f1.bearings.push_back(p1.normalized());
+    if (true_keypoint_visible) {
+      add2(v.T_21 * p1, 0.f, 0, noisy(i, 2));
+      add2(v.T_21 * p1, 1.f, 1, noisy(i, 3));  // the same corner at the next octave
+    } else {
+      add2(v.T_21 * (20.0 * ray), 0.f, 0, noisy(i, 2));
+      add2(v.T_21 * (10.0 * ray), 0.f, 0, noisy(i, 3));
+    }
+  }
+  cv::vconcat(rows2, v.f2.descriptors);
+  v.f1.valid.assign(v.f1.keypoints.size(), 1);
+  v.f2.valid.assign(v.f2.keypoints.size(), 1);
+  return v;
+}
+
+// Matches of keyframe 1's keypoints: (keypoint of keyframe 2, keypoint of keyframe 1).
+std::vector<std::pair<int, int>> triangulationMatches(const CameraModel& cam, const FacadeViews& v, double ratio) {
+  TrackerParams p;
+  p.triangulation_match_ratio = ratio;
+  Matcher matcher(cam, p);
+  auto kf1 = Keyframe::fromFrame(v.f1, Eigen::Isometry3d::Identity());
+  auto kf2 = Keyframe::fromFrame(v.f2, v.T_21);
+  const std::vector<int> m = matcher.searchForTriangulation(*kf1, std::vector<char>(v.f1.keypoints.size(), 0), *kf2,
+                                                            std::vector<long>(v.f2.keypoints.size(), -1), v.T_21);
+  std::vector<std::pair<int, int>> out;
+  for (size_t j = 0; j < m.size(); ++j)
+    if (m[j] >= 0) out.emplace_back(static_cast<int>(j), m[j]);
+  return out;
+}
+
+TEST(MatcherTest, SearchForTriangulationRefusesRepeatedTextureOnTheLine) {
+  test::TestPinhole cam(640, 480, 500, 320, 240);
+  const FacadeViews hidden = facadeViews(cam, false);
+  EXPECT_EQ(triangulationMatches(cam, hidden, TrackerParams().triangulation_match_ratio).size(), 0u);
+  // Without the test (ratio 1) a copy is matched for every point.
+  EXPECT_GE(triangulationMatches(cam, hidden, 1.0).size(), 95u);
+
+  const FacadeViews visible = facadeViews(cam, true);
+  int correct = 0;
+  for (const auto& [j, i] : triangulationMatches(cam, visible, TrackerParams().triangulation_match_ratio))
+    correct += j / 2 == i;
+  EXPECT_GE(correct, 95);
 }
 
 }  // namespace

@@ -58,7 +58,8 @@ class Matcher {
                                                    double ratio) const;
 
   /// Epipolar search for triangulation: for each unused keypoint of keyframe 1, the closest (Hamming <=
-  /// match_threshold_low) unmatched keypoint of keyframe 2 within 1.96 sigma of its epipolar plane.
+  /// match_threshold_low) unmatched keypoint of keyframe 2 within 1.96 sigma of its epipolar plane, if it is
+  /// distinct on that line (Hamming <= triangulation_match_ratio x any candidate more than 5 px away from it).
   /// Returns, per keypoint of keyframe 2, the matched keypoint of keyframe 1 (-1 if none).
   std::vector<int> searchForTriangulation(const Keyframe& kf1, const std::vector<char>& used1, const Keyframe& kf2,
                                           const std::vector<long>& point_id2, const Eigen::Isometry3d& T_21) const;

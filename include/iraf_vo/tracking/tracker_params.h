@@ -64,6 +64,9 @@ struct TrackerParams {
                                         // keyframes depend on the machine's load)
   int num_triangulation_neighbors = 6;
   double min_triangulation_parallax_deg = 1.0;
+  double triangulation_match_ratio = 0.6;  // new-point matching along the epipolar line: best < this x the best
+                                           // elsewhere on the line (same-corner keypoints within 5 px excepted;
+                                           // repeated texture, e.g. facades on a horizontal line; 1 = off)
   double min_found_ratio = 0.25;
   bool predict_scale = false;           // projection searches expect a point at the octave its image scale predicts
                                         // (ORB-SLAM's PredictScale) and skip it beyond 60 deg off its reference view;
