@@ -5,8 +5,8 @@
 //
 //   clean        normal light, fixed exposure
 //   dark / overexposed / flicker / mixed   the photometric presets' light events, fixed exposure
-//   night        0.3 % of the normal light all along (0.23 % on real images): the longest exposure and gain 48,
-//                mean grey about 50, read noise amplified by the gain (estimated SNR about 5)
+//   night        0.6 % of the normal light all along (0.23 % on real images): the longest exposure and gain
+//                38-48, read noise amplified by the gain (estimated SNR 4.4-6, as a dim room at high gain)
 //   ae_hunting   normal light, auto-exposure loop too aggressive for its lag: exposure oscillating about
 //                0.4x-2.5x of the right one with a period under 1 s, clipping at the peaks
 //   light_switch the light goes off (5 % left) and on twice; the auto-exposure recovers after each switch
