@@ -5,8 +5,12 @@
 #
 #   scripts/light_table.sh [--out DIR] [--sims DIR] [--bin DIR] [--frames N] [--seeds "0 11"]
 #                          [--presets "night ae_hunting ..."] [--cameras "pinhole fisheye"]
-#                          [--modes "iraf baseline he clahe"] [--sync] [-- iraf_vo_run args]
+#                          [--modes "iraf baseline he clahe"] [--sync] [--euroc DIR [--euroc-seeds "1"]]
+#                          [--no-sims] [-- iraf_vo_run args]
 #
+# --euroc DIR: also the real EuRoC frames 0-305 of DIR (ASL, with groundtruth/groundtruth_tum_cam0.txt) passed
+# through the camera model with each preset as an iraf_vo_degrade profile (--seed per --euroc-seeds; cached in
+# the --sims folder as euroc_P_sS); rows with camera "euroc". --no-sims: only those rows.
 # --sims: where the simulated sequences are cached (DIR/P_C_sS, rendered once with iraf_vo_simulate --threads 1;
 # default OUT/sims). --bin: folder with iraf_vo_run / iraf_vo_simulate (default: this checkout's build).
 # --sync: --set tracker.mapping_thread=false (deterministic up to floating point).
@@ -23,6 +27,9 @@ seeds="0 11"
 presets="night ae_hunting light_switch blackout flashlight glare"
 cameras="pinhole fisheye"
 modes="iraf baseline he clahe"
+euroc=""
+euroc_seeds="1"
+with_sims=1
 declare -a extra=()
 die() { echo "light_table.sh: $*" >&2; exit 2; }
 need() { [[ $# -ge 2 && -n "$2" ]] || die "$1 needs a value"; }
@@ -37,6 +44,9 @@ while [[ $# -gt 0 ]]; do
     --presets) need "$@"; presets="$2"; shift 2 ;;
     --cameras) need "$@"; cameras="$2"; shift 2 ;;
     --modes) need "$@"; modes="$2"; shift 2 ;;
+    --euroc) need "$@"; euroc="$2"; shift 2 ;;
+    --euroc-seeds) need "$@"; euroc_seeds="$2"; shift 2 ;;
+    --no-sims) with_sims=0; shift ;;
     --sync) extra+=(--set tracker.mapping_thread=false); shift ;;
     --) shift; extra+=("$@"); break ;;
     *) die "unknown argument '$1' (see --help)" ;;
@@ -47,11 +57,15 @@ for p in $presets; do
   case "$p" in night|ae_hunting|light_switch|blackout|flashlight|glare) ;; *) die "--presets: unknown preset '$p'" ;; esac
 done
 for c in $cameras; do case "$c" in pinhole|fisheye) ;; *) die "--cameras: unknown camera '$c'" ;; esac; done
-for s in $seeds; do [[ "$s" =~ ^[0-9]+$ ]] || die "--seeds: '$s' is not an integer"; done
+for s in $seeds $euroc_seeds; do [[ "$s" =~ ^[0-9]+$ ]] || die "--seeds / --euroc-seeds: '$s' is not an integer"; done
+if [[ -n "$euroc" ]]; then
+  [[ -f "$euroc/mav0/cam0/data.csv" ]] || die "--euroc $euroc: not an ASL sequence (no mav0/cam0/data.csv)"
+  [[ -f "$euroc/groundtruth/groundtruth_tum_cam0.txt" ]] || die "--euroc $euroc: no groundtruth/groundtruth_tum_cam0.txt"
+fi
 for m in $modes; do
   case "$m" in baseline|he|clahe|enhance|adaptive|culling|iraf) ;; *) die "--modes: unknown mode '$m'" ;; esac
 done
-for t in iraf_vo_run iraf_vo_simulate; do [[ -x "$bin/$t" ]] || die "$bin/$t missing (build first: scripts/setup.sh)"; done
+for t in iraf_vo_run iraf_vo_simulate iraf_vo_degrade; do [[ -x "$bin/$t" ]] || die "$bin/$t missing (build first: scripts/setup.sh)"; done
 [[ -n "$sims" ]] || sims="$out/sims"
 export PATH=/usr/bin:$PATH
 mkdir -p "$out/runs" "$sims"
@@ -60,34 +74,58 @@ echo "preset,camera,seed,mode,ate_mm,lost_events,resets,tracked,frames" > "$csv"
 t0=$(date +%s)
 log() { printf '[%4ds] %s\n' $(( $(date +%s) - t0 )) "$*" >&2; }
 
-for s in $seeds; do
-  for c in $cameras; do
-    for p in $presets; do
-      d="$sims/${p}_${c}_s$s"
-      [[ $frames == 200 ]] || d="${d}_f$frames"
-      if [[ ! -f "$d.done" ]]; then
-        log "simulating $p, $c, seed $s -> $d"
-        rm -rf "$d"
-        "$bin/iraf_vo_simulate" --preset "$p" --camera "$c" --frames "$frames" --seed "$s" --threads 1 --out "$d" \
-          > "$d.log" 2>&1 || { cat "$d.log" >&2; die "iraf_vo_simulate --preset $p --camera $c --seed $s failed"; }
-        touch "$d.done"
-      fi
-      for m in $modes; do
-        r="$out/runs/${p}_${c}_s$s.$m"
-        "$bin/iraf_vo_run" --dataset "$d" --mode "$m" --gt "$d/groundtruth.txt" --out "$r.txt" --stats "$r.json" \
-          "${extra[@]}" > "$r.log" 2>&1 || { log "iraf_vo_run failed on $p $c seed $s $m (see $r.log)"; continue; }
-        /usr/bin/python3 - "$r.json" "$p" "$c" "$s" "$m" >> "$csv" <<'EOF'
+# run_modes PRESET CAMERA SEED DATASET GT [iraf_vo_run args]: one row per mode into results.csv.
+run_modes() {
+  local p="$1" c="$2" s="$3" d="$4" gt="$5" m r
+  shift 5
+  for m in $modes; do
+    r="$out/runs/${p}_${c}_s$s.$m"
+    "$bin/iraf_vo_run" --dataset "$d" --mode "$m" --gt "$gt" --out "$r.txt" --stats "$r.json" "$@" \
+      ${extra[@]+"${extra[@]}"} > "$r.log" 2>&1 || { log "iraf_vo_run failed on $p $c seed $s $m (see $r.log)"; continue; }
+    /usr/bin/python3 - "$r.json" "$p" "$c" "$s" "$m" >> "$csv" <<'EOF'
 import json, sys
 j = json.load(open(sys.argv[1]))
 ate = j.get("ate_rmse")
 print(",".join(sys.argv[2:6] + ["%.1f" % (1000 * ate) if ate is not None else "nan",
                                  str(j["lost_events"]), str(j["resets"]), str(j["tracked"]), str(j["frames"])]))
 EOF
-        log "$p $c seed $s $m: $(tail -1 "$csv")"
+    log "$p $c seed $s $m: $(tail -1 "$csv")"
+  done
+}
+
+if [[ $with_sims == 1 ]]; then
+  for s in $seeds; do
+    for c in $cameras; do
+      for p in $presets; do
+        d="$sims/${p}_${c}_s$s"
+        [[ $frames == 200 ]] || d="${d}_f$frames"
+        if [[ ! -f "$d.done" ]]; then
+          log "simulating $p, $c, seed $s -> $d"
+          rm -rf "$d"
+          "$bin/iraf_vo_simulate" --preset "$p" --camera "$c" --frames "$frames" --seed "$s" --threads 1 --out "$d" \
+            > "$d.log" 2>&1 || { cat "$d.log" >&2; die "iraf_vo_simulate --preset $p --camera $c --seed $s failed"; }
+          touch "$d.done"
+        fi
+        run_modes "$p" "$c" "$s" "$d" "$d/groundtruth.txt"
       done
     done
   done
-done
+fi
+if [[ -n "$euroc" ]]; then
+  for s in $euroc_seeds; do
+    for p in $presets; do
+      d="$sims/euroc_${p}_s$s"
+      if [[ ! -f "$d.done" ]]; then
+        log "degrading $euroc with $p, seed $s -> $d"
+        rm -rf "$d"
+        "$bin/iraf_vo_degrade" "$euroc" "$d" --profile "$p" --seed "$s" > "$d.log" 2>&1 \
+          || { cat "$d.log" >&2; die "iraf_vo_degrade --profile $p --seed $s failed"; }
+        touch "$d.done"
+      fi
+      run_modes "$p" euroc "$s" "$d" "$euroc/groundtruth/groundtruth_tum_cam0.txt" --frames 306
+    done
+  done
+fi
 
 /usr/bin/python3 - "$csv" > "$out/table.md" <<'EOF'
 import csv, collections, math, sys

@@ -9,14 +9,11 @@
 
 #include "iraf_vo/camera/kannala_brandt.h"
 #include "iraf_vo/camera/pinhole_radtan.h"
+#include "iraf_vo/common/error_out.h"
 
 namespace iraf_vo {
 
 namespace {
-
-void setError(std::string* error, const std::string& msg) {
-  if (error) *error = msg;
-}
 
 std::string num(double v) {
   std::ostringstream os;

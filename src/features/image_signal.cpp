@@ -12,6 +12,7 @@ namespace {
 constexpr int kBlock = 4;           // the estimate is made on kBlock x kBlock means
 constexpr int kHistogramBins = 4096;  // |mask response| histogram, in 1/16 grey levels (larger values: last bin)
 constexpr float kBinsPerGrey = 16.0f;
+constexpr float kClippedGrey = 250.0f;  // a 4x4 mean at least this bright is clipped white
 
 // The median of |mask response| from its histogram, interpolated inside the bin that holds it.
 double histogramMedian(const std::vector<long>& hist, long total) {
@@ -80,6 +81,7 @@ ImageSignal measureImageSignal(const cv::Mat& gray) {
   s.noise_sigma = std::max(quantization, 1.4826 * histogramMedian(hist, total) / 6.0);
   s.contrast = std::sqrt(std::max(0.0, stddev[0] * stddev[0] - s.noise_sigma * s.noise_sigma));
   s.snr = s.contrast / s.noise_sigma;
+  s.clipped = static_cast<double>(cv::countNonZero(small >= kClippedGrey)) / static_cast<double>(small.total());
   return s;
 }
 

@@ -157,6 +157,7 @@ class EnhanceNodelet : public StageNodelet<EnhanceParams, iraf_vo::EnhanceConfig
       st->signal_noise = static_cast<float>(signal.noise_sigma);
       st->signal_contrast = static_cast<float>(signal.contrast);
       st->signal_snr = static_cast<float>(signal.snr);
+      st->signal_clipped = static_cast<float>(signal.clipped);
       stats_pub_.publish(st);
     }
     std::lock_guard<std::mutex> lock(stats_mutex_);

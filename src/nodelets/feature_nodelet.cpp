@@ -80,6 +80,7 @@ class FeatureNodelet : public StageNodelet<FeatureParams, iraf_vo::FeaturesConfi
       frame->signal.noise_sigma = st->signal_noise;
       frame->signal.contrast = st->signal_contrast;
       frame->signal.snr = st->signal_snr;
+      frame->signal.clipped = st->signal_clipped;
     } else if (stats_sub_.getNumPublishers() == 0) {
       frame->signal = measureImageSignal(gray);
     }

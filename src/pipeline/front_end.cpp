@@ -63,6 +63,7 @@ FeatureFrame FrontEnd::process(const cv::Mat& gray, double stamp, FrontEndTiming
   frame.stamp = stamp;
   frame.stats.brightness = static_cast<int>(enhanced.brightness);
   frame.signal = enhanced.signal.measured ? enhanced.signal : measureImageSignal(gray);
+  frame.image = enhanced.image;  // a new buffer per call (shared, not copied)
   return frame;
 }
 

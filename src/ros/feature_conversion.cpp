@@ -53,6 +53,7 @@ void toMsg(const FeatureFrame& f, const std_msgs::Header& header, Features* m) {
   m->signal_noise = static_cast<float>(f.signal.noise_sigma);
   m->signal_contrast = static_cast<float>(f.signal.contrast);
   m->signal_snr = static_cast<float>(f.signal.snr);
+  m->signal_clipped = static_cast<float>(f.signal.clipped);
 }
 
 double scaleFactorFromSizes(const Features& m) {
@@ -128,6 +129,7 @@ bool fromMsg(const Features& m, FeatureFrame* f, std::string* error, std::string
   out.signal.noise_sigma = m.signal_noise;
   out.signal.contrast = m.signal_contrast;
   out.signal.snr = m.signal_snr;
+  out.signal.clipped = m.signal_clipped;
   s.ms_cull = m.ms_cull;
   *f = std::move(out);
   return true;

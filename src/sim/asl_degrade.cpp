@@ -9,6 +9,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "iraf_vo/camera/camera_loader.h"
+#include "iraf_vo/common/error_out.h"
 #include "iraf_vo/io/image_codecs.h"
 #include "iraf_vo/sim/image_formation.h"
 #include "iraf_vo/sim/sensor_model.h"
@@ -17,12 +18,6 @@
 namespace iraf_vo {
 
 namespace fs = std::filesystem;
-
-namespace {
-void setError(std::string* error, const std::string& msg) {
-  if (error) *error = msg;
-}
-}  // namespace
 
 namespace {
 using AslRows = std::vector<std::pair<int64_t, std::string>>;

@@ -11,6 +11,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "iraf_vo/camera/camera_loader.h"
+#include "iraf_vo/common/error_out.h"
 #include "iraf_vo/common/wall_clock.h"
 #include "iraf_vo/sim/image_formation.h"
 #include "iraf_vo/io/image_codecs.h"
@@ -18,12 +19,6 @@
 namespace iraf_vo {
 
 namespace fs = std::filesystem;
-
-namespace {
-void setError(std::string* error, const std::string& msg) {
-  if (error) *error = msg;
-}
-}  // namespace
 
 CameraModelPtr makeSimCamera(const std::string& camera, int width, int height, std::string* error) {
   std::vector<double> p;

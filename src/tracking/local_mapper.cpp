@@ -172,7 +172,9 @@ void LocalMapper::localBundleAdjustment() {
   LocalBAProblem prob = buildLocalBAProblem(*map_, p_.ba_window_size, p_.ba_min_fixed_span, rig_ != nullptr);
   if (prob.observations.empty()) return;
   BAOptions options;
-  options.max_num_iterations = p_.ba_max_num_iterations;
+  // A stereo map: its cost falls by < 0.1 % per iteration after ~4 (far points creeping in depth), and 10
+  // iterations instead of 5 changed EuRoC's ATE by < 0.1 mm at twice the BA time.
+  options.max_num_iterations = rig_ ? p_.stereo_ba_max_iterations : p_.ba_max_num_iterations;
   // The time budget is CPU time of this thread: a wall-clock budget shrinks with the machine's load (at a load
   // of ~10 on 2 cores BA stopped after 0-1 iterations, the map stayed unoptimized and the scale drifted / collapsed
   // in some runs). The wall clock only bounds pathological cases.

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <unordered_map>
 
 namespace iraf_vo {
 
@@ -49,7 +50,7 @@ PoseTrackingResult PoseTracker::trackLocalMap(Frame& cur, const Eigen::Isometry3
   res.ms_match += msSince(t0);
   t0 = SteadyClock::now();
   res.refine_matches = matches.size();
-  res.inliers = refinePose(cur, local, &matches, &T);
+  res.inliers = refinePose(cur, local, &matches, &T, &res.right_inliers);
   res.ms_pose += msSince(t0);
   if (res.inliers < p_.min_tracking_inliers) return res;
   describeInliers(cur, local, matches, T, &res);
@@ -70,6 +71,25 @@ PoseTrackingResult PoseTracker::trackLocalMap(Frame& cur, const Eigen::Isometry3
     res.has_median_depth = true;
   }
   return res;
+}
+
+int PoseTracker::refineWithRight(Frame& cur, const Map& map) const {
+  if (!rig_ || cur.right_obs.size() != cur.size()) return -1;
+  const std::vector<LocalPoint> local = map.localPoints();
+  std::unordered_map<long, int> index;
+  for (size_t k = 0; k < local.size(); ++k) index[local[k].id] = static_cast<int>(k);
+  MatchSet matches(cur.size(), local.size());
+  for (size_t i = 0; i < cur.size(); ++i) {
+    const auto it = index.find(cur.point_id[i]);
+    if (it != index.end()) matches.link(static_cast<int>(i), it->second);
+  }
+  Eigen::Isometry3d T = cur.T_c_w;
+  int right_inliers = 0;
+  if (refinePose(cur, local, &matches, &T, &right_inliers) < p_.min_tracking_inliers) return -1;
+  cur.T_c_w = T;
+  for (size_t i = 0; i < cur.size(); ++i)
+    if (matches.pointOf(static_cast<int>(i)) < 0) cur.point_id[i] = -1;
+  return right_inliers;
 }
 
 void PoseTracker::describeInliers(const Frame& f, const std::vector<LocalPoint>& local, const MatchSet& matches,
@@ -94,11 +114,17 @@ void PoseTracker::describeInliers(const Frame& f, const std::vector<LocalPoint>&
 }
 
 int PoseTracker::refinePose(const Frame& f, const std::vector<LocalPoint>& local, MatchSet* matches,
-                            Eigen::Isometry3d* T) const {
+                            Eigen::Isometry3d* T, int* right_inliers) const {
   std::vector<Eigen::Vector3d> P;
   std::vector<Eigen::Vector2d> uv;
   std::vector<double> sigma;
   std::vector<int> keypoint;
+  const bool stereo = rig_ && f.right_obs.size() == f.size();
+  RightObservations right;
+  if (stereo) {
+    right.camera = rig_->right.get();
+    right.T_r_l = rig_->T_r_l;
+  }
   for (size_t i = 0; i < f.size(); ++i) {
     const int li = matches->pointOf(static_cast<int>(i));
     if (li < 0) continue;
@@ -106,6 +132,10 @@ int PoseTracker::refinePose(const Frame& f, const std::vector<LocalPoint>& local
     uv.emplace_back(f.keypoints[i].pt.x, f.keypoints[i].pt.y);
     sigma.push_back(f.sigma(f.keypoints[i].octave));
     keypoint.push_back(static_cast<int>(i));
+    if (!stereo) continue;
+    const Eigen::Vector3f& r = f.right_obs[i];  // sigma 0: no right match
+    right.uv.emplace_back(r.x(), r.y());
+    right.sigma.push_back(r.z());
   }
   if (P.size() < 4) return 0;
   PoseOptimizationOptions options;
@@ -114,7 +144,7 @@ int PoseTracker::refinePose(const Frame& f, const std::vector<LocalPoint>& local
   options.use_ceres = p_.pose_use_ceres;
   std::vector<char> inlier(P.size(), 1);
   Eigen::Isometry3d T_refined = *T;
-  const int n = optimizePose(cam_, P, uv, sigma, options, &T_refined, &inlier);
+  const int n = optimizePose(cam_, P, uv, sigma, options, &T_refined, &inlier, stereo ? &right : nullptr, right_inliers);
   if (n < 4) return n;
   *T = T_refined;
   for (size_t k = 0; k < keypoint.size(); ++k)

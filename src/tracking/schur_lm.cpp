@@ -47,14 +47,23 @@ class Solver {
     order_.resize(res.size());
     std::vector<int> fill(first_.begin(), first_.end() - 1);
     for (size_t j = 0; j < res.size(); ++j) order_[fill[res[j].point]++] = static_cast<int>(j);
-    // The same for the residuals of free poses only (the reduced system's terms), with their pose's free index.
+    // The point-pose blocks of free poses (the reduced system's terms), with their pose's free index: a
+    // stereo keyframe's left and right residuals of a point share one block W = sum of their J_c^T J_p, so the
+    // Schur complement pairs keyframes, not residuals.
     free_first_.assign(num_points + 1, 0);
+    block_of_.assign(res.size(), -1);
+    block_first_.assign(res.size(), 0);
     for (size_t i = 0; i < num_points; ++i) {
       free_first_[i + 1] = free_first_[i];
       for (int n = first_[i]; n < first_[i + 1]; ++n) {
-        const int c = free_index_[res[order_[n]].pose];
+        const int j = order_[n];
+        const int c = free_index_[res[j].pose];
         if (c < 0) continue;
-        free_res_.push_back(order_[n]);
+        int b = free_first_[i];
+        while (b < free_first_[i + 1] && free_cam_[b] != c) ++b;
+        block_of_[j] = b;
+        if (b < free_first_[i + 1]) continue;
+        block_first_[j] = 1;
         free_cam_.push_back(c);
         ++free_first_[i + 1];
       }
@@ -69,8 +78,8 @@ class Solver {
     minDp_.resize(num_points);
     Vinv_.resize(num_points);
     excluded_.assign(num_points, 0);
-    W_.resize(res.size());
-    T_.resize(res.size());
+    W_.resize(free_cam_.size());
+    T_.resize(free_cam_.size());
     R_.resize(np);
   }
 
@@ -140,7 +149,8 @@ class Solver {
         const Eigen::Matrix<double, 6, 2> wJcT = w * Jc.transpose();
         U_[c].noalias() += wJcT * Jc;
         gc_[c].noalias() += wJcT * e;
-        W_[j].noalias() = wJcT * Jp;
+        if (block_first_[j]) W_[block_of_[j]].noalias() = wJcT * Jp;
+        else W_[block_of_[j]].noalias() += wJcT * Jp;
       }
       if (linearize) {
         V_[i] = V;
@@ -188,23 +198,20 @@ class Solver {
       Vd.computeInverseAndDetWithCheck(Vinv_[i], det, invertible, 0.0);
       if (!invertible || !(det > 0.0)) return false;
       // Upper block triangle of the reduced system: pair (a, b) adds T_a W_b^T to block (pose a, pose b).
-      for (int na = free_first_[i]; na < free_first_[i + 1]; ++na) {
-        const int a = free_res_[na], ca = free_cam_[na];
+      for (int a = free_first_[i]; a < free_first_[i + 1]; ++a) {
+        const int ca = free_cam_[a];
         T_[a].noalias() = W_[a] * Vinv_[i];
         bc_.segment<6>(6 * ca).noalias() += T_[a] * gp_[i];
-        for (int nb = free_first_[i]; nb <= na; ++nb) {
-          const int b = free_res_[nb], cb = free_cam_[nb];
-          // T_b exists (nb <= na): T_a W_b^T = W_a Vinv W_b^T = (T_b W_a^T)^T.
+        for (int b = free_first_[i]; b <= a; ++b) {
+          const int cb = free_cam_[b];
+          // T_b exists (b <= a): T_a W_b^T = W_a Vinv W_b^T = (T_b W_a^T)^T.
           if (ca < cb) {
             S_.block<6, 6>(6 * ca, 6 * cb).noalias() -= T_[a] * W_[b].transpose();
           } else if (cb < ca) {
             S_.block<6, 6>(6 * cb, 6 * ca).noalias() -= T_[b] * W_[a].transpose();
-          } else {
-            const Mat6 B = T_[a] * W_[b].transpose();
-            if (a == b)
-              S_.block<6, 6>(6 * ca, 6 * ca) -= B;
-            else
-              S_.block<6, 6>(6 * ca, 6 * ca) -= B + B.transpose();
+          } else {  // a == b: one block per pose and point
+            const Mat6 B = T_[a] * W_[a].transpose();
+            S_.block<6, 6>(6 * ca, 6 * ca) -= B;
           }
         }
       }
@@ -227,8 +234,7 @@ class Solver {
     for (size_t i = 0; i < V_.size(); ++i) {
       if (!pointUsed(i)) continue;
       Eigen::Vector3d rhs = -gp_[i];
-      for (int n2 = free_first_[i]; n2 < free_first_[i + 1]; ++n2)
-        rhs.noalias() -= W_[free_res_[n2]].transpose() * (*dc)[free_cam_[n2]];
+      for (int b = free_first_[i]; b < free_first_[i + 1]; ++b) rhs.noalias() -= W_[b].transpose() * (*dc)[free_cam_[b]];
       (*dp)[i] = Vinv_[i] * rhs;
       g_dx += gp_[i].dot((*dp)[i]);
       dDd += (*dp)[i].cwiseAbs2().dot(Dp_[i]);
@@ -245,7 +251,9 @@ class Solver {
   double b_;
   int nf_ = 0;
   std::vector<int> free_index_, first_, order_;
-  std::vector<int> free_first_, free_res_, free_cam_;
+  std::vector<int> free_first_, free_cam_;  // point i's blocks: [free_first_[i], free_first_[i + 1])
+  std::vector<int> block_of_;               // residual -> its block (-1: fixed pose)
+  std::vector<char> block_first_;           // the residual sets its block's W (the others add to it)
   std::vector<Mat6> U_;
   std::vector<Vec6> gc_, Dc_, minDc_;
   std::vector<Eigen::Matrix3d> V_, Vinv_, R_;

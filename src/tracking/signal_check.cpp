@@ -14,6 +14,13 @@ std::string SignalCheck::tooDark(const ImageSignal& s) const {
   return buf;
 }
 
+std::string SignalCheck::washedOut(const ImageSignal& s) const {
+  if (!p_.dark_check || !s.measured || p_.washout_min_clipped >= 1.0 || s.clipped < p_.washout_min_clipped) return "";
+  char buf[120];
+  std::snprintf(buf, sizeof(buf), "washed out: %.0f %% of the image clipped white, mean %.1f", 100.0 * s.clipped, s.mean);
+  return buf;
+}
+
 int SignalCheck::lostFramesBeforeReset() const {
   return recovering_ ? std::max(p_.lost_frames_before_reset, p_.dark_relocalization_frames)
                      : p_.lost_frames_before_reset;

@@ -2,6 +2,7 @@
 
 #include "iraf_vo/tracking/geometry.h"
 #include "iraf_vo/tracking/multiview.h"
+#include "iraf_vo/tracking/stereo_refinement.h"
 
 #include <cmath>
 #include <cstdlib>
@@ -15,7 +16,8 @@ StereoMatcher::StereoMatcher(const StereoRig& rig, const TrackerParams& params)
   c_r_in_l_ = rig.T_r_l.inverse().translation();
 }
 
-std::vector<StereoMatch> StereoMatcher::match(const Frame& left, const Frame& right) const {
+std::vector<StereoMatch> StereoMatcher::match(const Frame& left, const Frame& right, const cv::Mat& left_image,
+                                              const cv::Mat& right_image) const {
   std::vector<StereoMatch> out;
   if (!rig_.left || !rig_.right || left.size() == 0 || right.size() == 0) return out;
   const CameraModel& cam_l = *rig_.left;
@@ -80,18 +82,21 @@ std::vector<StereoMatch> StereoMatcher::match(const Frame& left, const Frame& ri
   }
 
   const Eigen::Isometry3d T_l_l = Eigen::Isometry3d::Identity();
+  const bool refine = !left_image.empty() && !right_image.empty();
   for (size_t i = 0; i < left.size(); ++i) {
     const int j = left_choice[i];
     if (j < 0 || right_partner[j] != static_cast<int>(i)) continue;
+    Eigen::Vector2d uv_r(right.keypoints[j].pt.x, right.keypoints[j].pt.y);
+    Eigen::Vector3d b_r = right.bearings[j];
+    if (refine && !refineRight(left, i, right.keypoints[j].octave, left_image, right_image, &uv_r, &b_r)) continue;
     Eigen::Vector3d p_l;
-    if (!triangulateBearings(T_l_l, left.bearings[i], rig_.T_r_l, right.bearings[j], &p_l)) continue;
+    if (!triangulateBearings(T_l_l, left.bearings[i], rig_.T_r_l, b_r, &p_l)) continue;
     const Eigen::Vector3d p_r = rig_.T_r_l * p_l;
-    if (!(p_l.dot(left.bearings[i]) > 0.0) || !(p_r.dot(right.bearings[j]) > 0.0)) continue;
+    if (!(p_l.dot(left.bearings[i]) > 0.0) || !(p_r.dot(b_r) > 0.0)) continue;
     const double depth = p_l.norm();
     if (!(depth >= min_depth && depth <= max_depth_)) continue;
     const double s_l = left.sigma(left.keypoints[i].octave), s_r = right.sigma(right.keypoints[j].octave);
     const Eigen::Vector2d uv_l(left.keypoints[i].pt.x, left.keypoints[i].pt.y);
-    const Eigen::Vector2d uv_r(right.keypoints[j].pt.x, right.keypoints[j].pt.y);
     const double e_l = reprojectionError2(cam_l, T_l_l, p_l, uv_l);
     const double e_r = reprojectionError2(cam_r, rig_.T_r_l, p_l, uv_r);
     if (e_l < 0.0 || e_r < 0.0 || e_l > kChi2TwoDof * s_l * s_l || e_r > kChi2TwoDof * s_r * s_r) continue;
@@ -99,22 +104,56 @@ std::vector<StereoMatch> StereoMatcher::match(const Frame& left, const Frame& ri
     m.left = static_cast<int>(i);
     m.right = j;
     m.p_l = p_l;
+    m.uv_r = uv_r;
     out.push_back(m);
   }
   return out;
 }
 
-bool StereoMatcher::matchRight(Frame* left, const FeatureFrame& right, std::vector<StereoMatch>* matches) const {
+bool StereoMatcher::refineRight(const Frame& left, size_t i, int right_octave, const cv::Mat& left_image,
+                                const cv::Mat& right_image, Eigen::Vector2d* uv_r, Eigen::Vector3d* b_r) const {
+  // The epipolar curve's tangent at the right pixel: the left ray's points at inverse depths rho +- eps project to
+  // R b_l + rho t (rho of the raw triangulation, 0 = infinity when it fails); eps spans ~2 px of disparity.
+  const Eigen::Vector3d rb = rig_.T_r_l.linear() * left.bearings[i], t = rig_.T_r_l.translation();
+  Eigen::Vector3d p_l;
+  double rho = 0.0;
+  if (triangulateBearings(Eigen::Isometry3d::Identity(), left.bearings[i], rig_.T_r_l, *b_r, &p_l) &&
+      p_l.dot(left.bearings[i]) > 0.0)
+    rho = 1.0 / std::max(p_l.norm(), p_.stereo_min_depth);
+  const double eps = 2.0 / (rig_.right->focal() * rig_.baseline());
+  Eigen::Vector2d a, b;
+  if (!rig_.right->project(rb + (rho + eps) * t, &a) || !rig_.right->project(rb + std::max(0.0, rho - eps) * t, &b))
+    return false;
+  if (!((a - b).norm() > 1e-6)) return false;
+  const Eigen::Vector2d dir = (a - b).normalized();
+  // The search starts at the right keypoint moved onto the epipolar line (its level-grid offset across the line
+  // would otherwise stay in the observation).
+  const Eigen::Vector2d start = b + dir * (*uv_r - b).dot(dir);
+  const cv::KeyPoint& kl = left.keypoints[i];
+  const double step = left.sigma(std::min(kl.octave, right_octave));
+  Eigen::Vector2d refined;
+  if (!refineAlongEpipolar(left_image, right_image, Eigen::Vector2d(kl.pt.x, kl.pt.y), start, dir, step, &refined))
+    return false;
+  Eigen::Vector3d bearing;
+  if (!rig_.right->unproject(refined, &bearing) || !bearing.allFinite() || !(bearing.norm() > 0.5)) return false;
+  *uv_r = refined;
+  *b_r = bearing.normalized();
+  return true;
+}
+
+bool StereoMatcher::matchRight(Frame* left, const FeatureFrame& right, std::vector<StereoMatch>* matches,
+                               const cv::Mat& left_image) const {
   matches->clear();
   left->right_obs.clear();
   Frame rf;
   std::string err;
   if (right.keypoints.empty() || !Frame::fromFeatures(right, *rig_.right, left->index, &rf, &err)) return false;
-  *matches = match(*left, rf);
+  *matches = match(*left, rf, left_image, left_image.empty() ? cv::Mat() : right.image);
   left->right_obs.assign(left->size(), Eigen::Vector3f::Zero());
   for (const StereoMatch& m : *matches) {
     const cv::KeyPoint& kp = rf.keypoints[m.right];
-    left->right_obs[m.left] = Eigen::Vector3f(kp.pt.x, kp.pt.y, static_cast<float>(rf.sigma(kp.octave)));
+    left->right_obs[m.left] =
+        Eigen::Vector3f(static_cast<float>(m.uv_r.x()), static_cast<float>(m.uv_r.y()), static_cast<float>(rf.sigma(kp.octave)));
   }
   return true;
 }

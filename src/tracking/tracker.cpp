@@ -34,7 +34,7 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in, bool has_right, RightFe
   updateStats([](TrackerStats& s) { s.frames++; });
   // Bad frame: report it as not tracked, keep the state machine as is.
   if (!ok_input) return notTracked(state == TrackingState::kTracking ? TrackingState::kLost : state.load(), t_start, res);
-  res.too_dark = signal.tooDark(in.signal);
+  res.too_dark = signal.noSignal(in.signal);
   const bool was_dark = last_dark;
   last_dark = !res.too_dark.empty();
   if (last_dark) {
@@ -42,7 +42,7 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in, bool has_right, RightFe
     return darkFrame(t_start, res);
   }
   signal.lightFrame();
-  if (stereo) beginStereo(has_right, std::move(right), &res);
+  if (stereo) beginStereo(has_right, std::move(right), in.image, &res);
 
   if (state == TrackingState::kNotInitialized || state == TrackingState::kInitializing) {
     t0 = SteadyClock::now();
@@ -78,6 +78,7 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in, bool has_right, RightFe
   // One tracking step sees one version of the map: a BA result is written back before or after it, never
   // between the pose estimate, the keyframe created from it and T_last_rel_kf (see Map::lockUpdates).
   std::unique_lock<std::mutex> map_update = map.lockUpdates();
+  if (stereo && p.stereo_match_every_frame) stereoMatches(cur, &res);  // right residuals in the pose refinement
   if (!trackWithMotionModel(cur, &res) && !relocalizeAfterDarkness(cur, &res)) {
     map_update.unlock();
     health.restart();
@@ -147,6 +148,7 @@ bool Tracker::Impl::trackFrom(Frame& cur, const Eigen::Isometry3d& T_last, const
   if (!r.tracked) return false;
   res->inlier_ratio = r.refine_matches > 0 ? static_cast<double>(r.inliers) / r.refine_matches : 0.0;
   res->median_chi2 = r.median_chi2;
+  if (stereo && !cur.right_obs.empty()) res->right_inliers = r.right_inliers;
   res->covariance = worldPoseCovariance(r.information, cur.T_c_w);
   res->rejected = checkHealth(cur, r, T_last, T_predicted);
   if (!res->rejected.empty()) {
@@ -206,9 +208,15 @@ bool Tracker::Impl::addKeyframeIfNeeded(Frame& cur, TrackResult* res) {
   if (c.frames_since_keyframe >= p.min_frames_between_keyframes)
     c.reference_tracked = map.trackedPoints(last_kf_id, 2);
   if (!needNewKeyframe(c, p)) return false;
+  std::vector<StereoMapPoint> stereo_points;
+  if (stereo) {
+    const std::vector<StereoMatch>& m = stereoMatches(cur, res);
+    // Matched only now (stereo_match_every_frame false): the keyframe's pose again, with its right residuals.
+    if (!p.stereo_match_every_frame) res->right_inliers = std::max(0, pose_tracker.refineWithRight(cur, map));
+    stereo_points = stereoMapPoints(m, cur, true);
+  }
   // mapped right here: the next frames match its new points (stereo: its close points first)
-  last_kf_id = mapper.addKeyframe(cur, stereo ? stereoMapPoints(stereoMatches(cur, res), cur, true)
-                                             : std::vector<StereoMapPoint>());
+  last_kf_id = mapper.addKeyframe(cur, stereo_points);
   updateStats([](TrackerStats& s) { s.keyframes++; });
   frames_since_kf = 0;
   res->is_keyframe = true;

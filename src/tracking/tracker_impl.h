@@ -62,6 +62,7 @@ struct Tracker::Impl {
     if (!rig.right) return;
     stereo = std::make_unique<StereoFrame>(rig, p);
     mapper.setStereo(&rig);
+    pose_tracker.setStereo(&rig);
   }
 
   template <class F>
@@ -71,7 +72,7 @@ struct Tracker::Impl {
   }
 
   TrackResult track(const FeatureFrame& in, bool has_right = false, RightFeatures right = RightFeatures());
-  void beginStereo(bool has_right, RightFeatures right, TrackResult* res);
+  void beginStereo(bool has_right, RightFeatures right, const cv::Mat& left_image, TrackResult* res);
   const std::vector<StereoMatch>& stereoMatches(Frame& cur, TrackResult* res);
   bool initializeMap(Frame& cur, TrackResult* res);
   bool initializeStereo(Frame& cur, TrackResult* res);

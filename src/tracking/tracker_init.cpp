@@ -9,8 +9,8 @@
 namespace iraf_vo {
 
 // Stereo: whether this frame has a right image; a missing one is counted once per frame.
-void Tracker::Impl::beginStereo(bool has_right, RightFeatures right, TrackResult* res) {
-  const bool new_run = stereo->begin(has_right, std::move(right));
+void Tracker::Impl::beginStereo(bool has_right, RightFeatures right, const cv::Mat& left_image, TrackResult* res) {
+  const bool new_run = stereo->begin(has_right, std::move(right), left_image);
   res->stereo = has_right;
   res->right_missing = !has_right;
   if (has_right) return;

@@ -209,6 +209,10 @@ TEST(FeatureConversion, RoundTripAndInconsistentMessages) {
   f.stats.detected = 5;
   f.stats.brightness = -1;
   f.scale_factor = 1.3;
+  f.signal.measured = true;
+  f.signal.mean = 248.5;
+  f.signal.snr = 3.25;
+  f.signal.clipped = 0.875;  // the tracker's "washed out" check reads it
   std_msgs::Header h;
   h.stamp = ros::Time(12.5);
   iraf_vo::Features m;
@@ -230,6 +234,10 @@ TEST(FeatureConversion, RoundTripAndInconsistentMessages) {
   EXPECT_EQ(g.stats.brightness, -1);
   EXPECT_DOUBLE_EQ(m.scale_factor, 1.3);
   EXPECT_DOUBLE_EQ(g.scale_factor, 1.3);  // the pyramid scale travels with the features
+  EXPECT_TRUE(g.signal.measured);
+  EXPECT_DOUBLE_EQ(g.signal.mean, 248.5);
+  EXPECT_DOUBLE_EQ(g.signal.snr, 3.25);
+  EXPECT_DOUBLE_EQ(g.signal.clipped, 0.875);
 
   // A sender without scale_factor (0): estimated from the keypoint sizes (37.2 = 31 * 1.2 at octave 1), warned.
   iraf_vo::Features old = m;

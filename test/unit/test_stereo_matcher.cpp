@@ -4,17 +4,26 @@
 
 #include <algorithm>
 #include <fstream>
+#include <opencv2/imgproc.hpp>
 
 #include "iraf_vo/camera/stereo_rig.h"
 #include "iraf_vo/io/image_folder.h"
 #include "iraf_vo/pipeline/front_end.h"
 #include "iraf_vo/tracking/stereo_matcher.h"
+#include "iraf_vo/tracking/stereo_refinement.h"
 #include "unit/tracking_test_utils.h"
 
 using namespace iraf_vo;
 using namespace iraf_vo::test;
 
 namespace {
+
+/// The tracker's frames of a pair of feature frames (one camera model for both).
+void toFrames(const FeatureFrame& fl, const FeatureFrame& fr, const CameraModel& cam, Frame* left, Frame* right) {
+  std::string err;
+  ASSERT_TRUE(Frame::fromFeatures(fl, cam, 0, left, &err)) << err;
+  ASSERT_TRUE(Frame::fromFeatures(fr, cam, 0, right, &err)) << err;
+}
 
 /// A rig with a 0.12 m baseline and a 2 deg toe-in (not rectified).
 StereoRig syntheticRig(CameraModelPtr cam) {
@@ -35,9 +44,7 @@ void checkSyntheticPair(CameraModelPtr cam) {
   FeatureFrame fr = world.render(*cam, T_w_l * rig.T_r_l.inverse(), 0.0, 0.3, 4);
   TrackerParams p;
   Frame left, right;
-  std::string err;
-  ASSERT_TRUE(Frame::fromFeatures(fl, *cam, 0, &left, &err)) << err;
-  ASSERT_TRUE(Frame::fromFeatures(fr, *cam, 0, &right, &err)) << err;
+  ASSERT_NO_FATAL_FAILURE(toFrames(fl, fr, *cam, &left, &right));
   const StereoMatcher matcher(rig, p);
   const std::vector<StereoMatch> matches = matcher.match(left, right);
   // Which world point each keypoint shows: the nearest projection.
@@ -74,7 +81,97 @@ void checkSyntheticPair(CameraModelPtr cam) {
   for (const StereoMatch& m : matches) EXPECT_LE(m.depth(), matcher.maxDepth());
 }
 
+/// A textured plane z = depth (blocks of 0.2 m, blurred) seen by a pinhole camera at x = offset [m]: 8-bit image.
+cv::Mat planeImage(const cv::Mat& texture, double texel_m, const PinholeRadtan& cam, double depth, double offset) {
+  cv::Mat mx(cam.height(), cam.width(), CV_32FC1), my(cam.height(), cam.width(), CV_32FC1);
+  for (int v = 0; v < cam.height(); ++v)
+    for (int u = 0; u < cam.width(); ++u) {
+      Eigen::Vector3d b;
+      cam.unproject(Eigen::Vector2d(u, v), &b);
+      const double X = offset + depth * b.x() / b.z(), Y = depth * b.y() / b.z();
+      mx.at<float>(v, u) = static_cast<float>(X / texel_m + texture.cols / 2.0);
+      my.at<float>(v, u) = static_cast<float>(Y / texel_m + texture.rows / 2.0);
+    }
+  cv::Mat out;
+  cv::remap(texture, out, mx, my, cv::INTER_LINEAR);
+  return out;
+}
+
 }  // namespace
+
+TEST(StereoRefinement, FindsASubPixelShiftAlongTheRow) {
+  cv::Mat coarse(40, 60, CV_8UC1), tex, shifted;
+  cv::randu(coarse, 0, 255);
+  cv::resize(coarse, tex, cv::Size(600, 400), 0, 0, cv::INTER_NEAREST);
+  cv::GaussianBlur(tex, tex, cv::Size(0, 0), 2.0);
+  const double shift = 3.37;  // the right image shows the left one moved left by 3.37 px
+  const cv::Mat M = (cv::Mat_<double>(2, 3) << 1, 0, -shift, 0, 1, 0);
+  cv::warpAffine(tex, shifted, M, tex.size(), cv::INTER_CUBIC);
+  const Eigen::Vector2d ul(300, 200), ur_raw(297, 200);  // an integer right keypoint 0.37 px off
+  for (const double step : {1.0, 1.2, 2.0736}) {  // octaves 0, 1, 4
+    Eigen::Vector2d ur;
+    ASSERT_TRUE(refineAlongEpipolar(tex, shifted, ul, ur_raw, Eigen::Vector2d(1, 0), step, &ur)) << step;
+    EXPECT_NEAR(ur.x(), ul.x() - shift, 0.1 * step) << "step " << step;  // a tenth of the level pixel
+    EXPECT_DOUBLE_EQ(ur.y(), 200.0);
+  }
+  Eigen::Vector2d ur;
+  EXPECT_FALSE(refineAlongEpipolar(tex, shifted, Eigen::Vector2d(3, 200), ur_raw, Eigen::Vector2d(1, 0), 1.0, &ur))
+      << "the left patch leaves the image";
+  EXPECT_FALSE(refineAlongEpipolar(tex, shifted, ul, Eigen::Vector2d(285, 200), Eigen::Vector2d(1, 0), 1.0, &ur))
+      << "the fit lies beyond the search range";
+}
+
+// A plane 50 m away, EuRoC's focal length and baseline: ~1 px of disparity, quantized to the keypoints' level
+// pixels. The raw matches that survive (in front of both cameras) are those whose disparity came out large (depths
+// short); refined along the epipolar line the depths are right.
+TEST(StereoMatcher, FarPlaneDepthWithSubPixelRefinement) {
+  auto cam = std::make_shared<TestPinhole>(752, 480, 458.0, 376.0, 240.0);
+  StereoRig rig;
+  rig.left = rig.right = cam;
+  rig.T_r_l = Eigen::Isometry3d::Identity();
+  rig.T_r_l.translation() = Eigen::Vector3d(-0.11, 0, 0);
+  const double depth = 50.0, texel = 0.1;
+  cv::Mat coarse(200, 300, CV_8UC1), tex;
+  cv::RNG rng(7);
+  rng.fill(coarse, cv::RNG::UNIFORM, 0, 255);
+  cv::resize(coarse, tex, cv::Size(1200, 800), 0, 0, cv::INTER_NEAREST);  // 0.4 m blocks
+  cv::GaussianBlur(tex, tex, cv::Size(0, 0), 1.5);
+  const cv::Mat il = planeImage(tex, texel, *cam, depth, 0.0), ir = planeImage(tex, texel, *cam, depth, 0.11);
+  EnhanceParams ep;
+  FeatureParams fp;
+  applyFrontEndMode(FrontEndMode::kIraf, &ep, &fp);
+  FrontEnd fe_l(ep, fp), fe_r(ep, fp);
+  const FeatureFrame fl = fe_l.process(il, 0.0), fr = fe_r.process(ir, 0.0);
+  ASSERT_FALSE(fl.image.empty());
+  TrackerParams p;
+  Frame left, right;
+  ASSERT_NO_FATAL_FAILURE(toFrames(fl, fr, *cam, &left, &right));
+  const StereoMatcher matcher(rig, p);
+  auto depthErrors = [&](const std::vector<StereoMatch>& matches, double* median, double* mean) {
+    std::vector<double> rel;
+    for (const StereoMatch& m : matches) rel.push_back(m.p_l.z() / depth - 1.0);
+    ASSERT_GE(rel.size(), 50u);
+    std::sort(rel.begin(), rel.end());
+    *median = rel[rel.size() / 2];
+    *mean = 0.0;
+    for (double r : rel) *mean += r / static_cast<double>(rel.size());
+  };
+  double med_raw, mean_raw, med, mean;
+  const std::vector<StereoMatch> raw = matcher.match(left, right);
+  const std::vector<StereoMatch> refined = matcher.match(left, right, fl.image, fr.image);
+  depthErrors(raw, &med_raw, &mean_raw);
+  depthErrors(refined, &med, &mean);
+  std::printf("plane at %.0f m: raw %zu matches, depth error median %+.1f %% mean %+.1f %%; refined %zu matches, "
+              "median %+.1f %% mean %+.1f %%\n", depth, raw.size(), 100 * med_raw, 100 * mean_raw, refined.size(),
+              100 * med, 100 * mean);
+  EXPECT_LT(std::abs(med), 0.03);
+  EXPECT_LT(std::abs(mean), 0.06);
+  for (const StereoMatch& m : refined) {  // the right observation is the refined pixel
+    Eigen::Vector2d uv;
+    ASSERT_TRUE(cam->project(rig.T_r_l * m.p_l, &uv));
+    EXPECT_LT((uv - m.uv_r).norm(), 0.5);
+  }
+}
 
 TEST(StereoMatcher, SyntheticPinholePair) {
   checkSyntheticPair(std::make_shared<TestPinhole>(640, 480, 450.0, 320.0, 240.0));

@@ -17,6 +17,7 @@ namespace {
 struct StereoRun {
   int tracked = 0, first_tracked = -1, right_missing_results = 0;
   int right_features_calls = 0;  // on_demand: how often the tracker asked for the right features
+  int posed_with_right = 0, keyframes_posed_with_right = 0;  // tracked frames with right residuals in their pose
   std::vector<Eigen::Vector3d> positions;
   double path_true = 0.0, path_est = 0.0, max_position_error = 0.0;
   TrackerStats stats;
@@ -24,13 +25,16 @@ struct StereoRun {
 
 /// 70 frames through a textured box (sideways and forward motion, some yaw); world = the first left camera.
 /// Frames >= right_until get no right image. on_demand: the right features through Tracker::track's RightFeatures.
-StereoRun runSequence(CameraModelPtr cam, int right_until, int frames = 70, bool on_demand = false) {
+/// every_frame: TrackerParams::stereo_match_every_frame.
+StereoRun runSequence(CameraModelPtr cam, int right_until, int frames = 70, bool on_demand = false,
+                      bool every_frame = false) {
   StereoRig rig;
   rig.left = rig.right = cam;
   rig.T_r_l = makePose(Eigen::Vector3d(0.3, -1.0, 0.2), Eigen::Vector3d(-0.11, 0.002, 0.001));
   TrackerParams p;
   p.mapping_thread = false;  // deterministic
   p.ba_max_num_iterations = 5;
+  p.stereo_match_every_frame = every_frame;
   Tracker tracker(rig, p);
   EXPECT_TRUE(tracker.isStereo());
   SyntheticWorld world;
@@ -52,6 +56,8 @@ StereoRun runSequence(CameraModelPtr cam, int right_until, int frames = 70, bool
     if (r.state != TrackingState::kTracking) continue;
     if (out.first_tracked < 0) out.first_tracked = i;
     ++out.tracked;
+    out.posed_with_right += r.right_inliers > 0;
+    out.keyframes_posed_with_right += r.is_keyframe && r.right_inliers > 0;
     const Eigen::Vector3d est = r.T_w_c.translation();
     out.positions.push_back(est);
     out.max_position_error = std::max(out.max_position_error, (est - T_w_l.translation()).norm());
@@ -95,6 +101,22 @@ TEST(StereoTracking, RightFeaturesOnlyForTheMatchedFrames) {
   EXPECT_EQ(given.stats.stereo_matched_frames, on_demand.stats.stereo_matched_frames);
   ASSERT_EQ(given.positions.size(), on_demand.positions.size());
   for (size_t i = 0; i < given.positions.size(); ++i) EXPECT_EQ(given.positions[i], on_demand.positions[i]) << i;
+}
+
+// The right image in the per-frame pose refinement: by default the keyframes are posed again with their right
+// residuals after the left-right matching; stereo_match_every_frame matches and uses them on every frame.
+TEST(StereoTracking, RightResidualsInThePoseRefinement) {
+  auto cam = std::make_shared<TestPinhole>(752, 480, 458.0, 376.0, 240.0);
+  const StereoRun keyframes = runSequence(cam, 1000, 40);
+  EXPECT_EQ(keyframes.tracked, 40);
+  EXPECT_EQ(keyframes.keyframes_posed_with_right, keyframes.stats.keyframes - 1);  // not the initialization's
+  EXPECT_EQ(keyframes.posed_with_right, keyframes.keyframes_posed_with_right);
+  const StereoRun every = runSequence(cam, 1000, 40, true, true);
+  EXPECT_EQ(every.tracked, 40);
+  EXPECT_EQ(every.stats.stereo_matched_frames, 40);
+  EXPECT_EQ(every.right_features_calls, 40);
+  EXPECT_EQ(every.posed_with_right, 40 - 1);
+  EXPECT_LT(every.max_position_error, 0.01 * every.path_true);
 }
 
 TEST(StereoTracking, FisheyePairIsMetricToo) {

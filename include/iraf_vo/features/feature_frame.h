@@ -43,6 +43,8 @@ struct FeatureFrame {
   double scale_factor = 1.2;           // pyramid scale: keypoint sigma at octave o = scale_factor^o px
   FeatureStats stats;
   ImageSignal signal;                  // of the camera's image before enhancement (measured = false if unknown)
+  cv::Mat image;                       // the 8-bit image the keypoints were detected on (the stereo matcher's
+                                       // sub-pixel refinement); empty when not carried (ROS messages)
 };
 
 }  // namespace iraf_vo

@@ -10,6 +10,7 @@
 //                8-bit quantization noise of a mean of 16 pixels, 1 / (4 sqrt(12))
 //   contrast     their standard deviation with that noise removed: sqrt(max(0, var - noise_sigma^2))
 //   snr          contrast / noise_sigma
+//   clipped      the fraction of those means at >= 250 grey: white, no texture left (a washed-out image)
 // On EuRoC MH01 frames scaled by a factor f plus Gaussian noise of 2 grey levels: f = 1 / 10: SNR 11-13,
 // f = 1 / 50: 3.1-3.4, f = 1 / 100 (still tracked by the IRAF front-end): 1.5-1.6, f = 1 / 200 (no longer
 // tracked): 0.7-0.8, noise alone 0.1-0.2. Cost: one area resize and a pass over 1 / 16 of the pixels.
@@ -25,6 +26,7 @@ struct ImageSignal {
   double noise_sigma = 0.0;  // of the 4x4 means, grey levels
   double contrast = 0.0;     // of the 4x4 means, grey levels, noise removed
   double snr = 0.0;          // contrast / noise_sigma
+  double clipped = 0.0;      // fraction of the 4x4 means >= 250 grey (clipped white)
 };
 
 /// The signal estimate of a CV_8UC1 image; measured = false for an empty image, another type or one smaller

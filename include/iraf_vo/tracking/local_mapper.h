@@ -19,9 +19,9 @@
 //                back (and bounds the map) when it adds the next keyframe, waiting for it there. BA always
 //                starts from the map of its keyframe and lands at the next one: a threaded run gives the same
 //                trajectory every time, one keyframe's BA later than a synchronous run.
-// BA: Huber loss on sigma-normalized pixel residuals, bounded by ba_max_num_iterations and by
-//   ba_max_solver_time_in_seconds of CPU time of the mapping thread (not wall clock: load-independent);
-//   observations failing chi2 afterwards are removed.
+// BA: Huber loss on sigma-normalized pixel residuals, bounded by ba_max_num_iterations (a stereo map:
+//   stereo_ba_max_iterations) and by ba_max_solver_time_in_seconds of CPU time of the mapping thread (not wall
+//   clock: load-independent); observations failing chi2 afterwards are removed.
 #pragma once
 
 #include "iraf_vo/camera/camera_model.h"

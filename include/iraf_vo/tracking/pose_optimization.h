@@ -38,11 +38,25 @@ struct PoseOptimizationOptions {
   bool use_ceres = false;
 };
 
+/// A stereo frame's right-image observations of the same points: per observation its right pixel and sigma
+/// (sigma <= 0: not seen in the right image), the right camera and T_r_l (left camera -> right camera).
+struct RightObservations {
+  const CameraModel* camera = nullptr;
+  Eigen::Isometry3d T_r_l = Eigen::Isometry3d::Identity();
+  std::vector<Eigen::Vector2d> uv;
+  std::vector<double> sigma;
+  /// The observations with a right pixel (0 without a camera).
+  int count() const;
+};
+
 /// Pose-only refinement of T_c_w from 3D points and their observed pixels (sigma per observation).
 /// `inlier` (in/out, same size) marks which observations are used; updated by the chi2 test of each round.
-/// Returns the number of inliers after the last round.
+/// right (optional, same size): each right observation adds the residual of the point projected through T_r_l
+/// into the right camera, used while it passes its own chi2 test (5.991 sigma^2) and its left one does; the
+/// inliers are decided on the left image, as without it. Levenberg-Marquardt only (use_ceres is ignored then).
+/// Returns the number of inliers after the last round; *right_inliers (optional): the right residuals in use.
 int optimizePose(const CameraModel& cam, const std::vector<Eigen::Vector3d>& p_w, const std::vector<Eigen::Vector2d>& uv,
                  const std::vector<double>& sigma, const PoseOptimizationOptions& options, Eigen::Isometry3d* T_c_w,
-                 std::vector<char>* inlier);
+                 std::vector<char>* inlier, const RightObservations* right = nullptr, int* right_inliers = nullptr);
 
 }  // namespace iraf_vo

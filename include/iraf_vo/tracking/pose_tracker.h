@@ -4,10 +4,12 @@
 // if still too few inliers: relocalization (brute force against the map points + PnP RANSAC) -> pose-only
 // refinement (Huber, chi2 5.991 outlier rejection) -> a second, narrow projection search
 // (search_radius_refine_px) with the refined pose -> refinement again. Tracked iff inliers >=
-// min_tracking_inliers. ROS-free.
+// min_tracking_inliers. Stereo (setStereo): the refinements add a right-image residual for each matched keypoint
+// with a left-right match (Frame::right_obs). ROS-free.
 #pragma once
 
 #include "iraf_vo/camera/camera_model.h"
+#include "iraf_vo/camera/stereo_rig.h"
 #include "iraf_vo/tracking/frame.h"
 #include "iraf_vo/tracking/map.h"
 #include "iraf_vo/tracking/matcher.h"
@@ -21,6 +23,7 @@ struct PoseTrackingResult {
   int inliers = 0;
   bool used_pnp = false;    // relocalized by brute force + PnP
   int refine_matches = 0;   // matches entering the final pose refinement
+  int right_inliers = 0;    // stereo: right-image residuals in use after the final refinement
   double median_chi2 = 0.0; // median sigma-normalized squared reprojection error of the inliers
   Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();  // of T_c_w (poseInformation)
   bool has_median_depth = false;
@@ -32,13 +35,23 @@ class PoseTracker {
  public:
   PoseTracker(const CameraModel& camera, const TrackerParams& params) : cam_(camera), p_(params), matcher_(camera, params) {}
 
+  /// Stereo: the rig (must outlive the tracker) whose right camera sees Frame::right_obs; nullptr: monocular.
+  void setStereo(const StereoRig* rig) { rig_ = rig && rig->right ? rig : nullptr; }
+
   /// Tracks `cur` against the map starting from T_predicted. On success sets cur.T_c_w and cur.point_id and
   /// counts the map points' visibility.
   PoseTrackingResult trackLocalMap(Frame& cur, const Eigen::Isometry3d& T_predicted, Map* map) const;
+  /// Stereo: refines the tracked cur.T_c_w again with the right residuals of cur.right_obs (matched after the
+  /// tracking, e.g. for a new keyframe); the keypoints whose point fails the chi2 test lose it (cur.point_id).
+  /// Returns the right residuals in use, or -1 (cur unchanged) without right observations or with fewer than
+  /// min_tracking_inliers inliers.
+  int refineWithRight(Frame& cur, const Map& map) const;
 
  private:
-  /// Pose-only refinement from the matches; outlier matches are removed. Returns the inliers.
-  int refinePose(const Frame& f, const std::vector<LocalPoint>& local, MatchSet* matches, Eigen::Isometry3d* T) const;
+  /// Pose-only refinement from the matches (and their right observations); outlier matches are removed. Returns
+  /// the inliers; *right_inliers (optional): the right residuals in use.
+  int refinePose(const Frame& f, const std::vector<LocalPoint>& local, MatchSet* matches, Eigen::Isometry3d* T,
+                 int* right_inliers = nullptr) const;
   /// Median chi2 and information matrix of the final inliers.
   void describeInliers(const Frame& f, const std::vector<LocalPoint>& local, const MatchSet& matches,
                        const Eigen::Isometry3d& T, PoseTrackingResult* res) const;
@@ -48,6 +61,7 @@ class PoseTracker {
   const CameraModel& cam_;
   const TrackerParams& p_;
   Matcher matcher_;
+  const StereoRig* rig_ = nullptr;
 };
 
 }  // namespace iraf_vo

@@ -3,7 +3,8 @@
 //
 // A frame is too dark when its image (ImageSignal, measured by the front-end before enhancement) has a mean grey of
 // at most dark_max_mean and an estimated SNR below dark_min_snr or a contrast above the noise below
-// dark_min_contrast. Such a frame is not tracked at all: it is LOST with the reason ("too dark: mean 3, estimated
+// dark_min_contrast. A frame is washed out when at least washout_min_clipped of its 4x4-pixel means are clipped
+// white (the light returns on an exposure set for the dark, a flash): no texture is left either. Such a frame is not tracked at all: it is LOST with the reason ("too dark: mean 3, estimated
 // SNR 0.8"), gives no pose, and neither counts towards the reset nor touches the map, the mapper or the
 // initializer. When the light returns the tracker relocalizes in the map it kept (same scale, same world frame):
 // the pose tracker's projection search around the last pose (normal, then wide window, then brute-force matching
@@ -26,6 +27,13 @@ class SignalCheck {
   /// "" when the image can be tracked (or carries no estimate), else why not, e.g.
   /// "too dark: mean 3, estimated SNR 0.8".
   std::string tooDark(const ImageSignal& s) const;
+  /// "" unless the image is washed out, e.g. "washed out: 92 % of the image clipped white, mean 248".
+  std::string washedOut(const ImageSignal& s) const;
+  /// Why the image carries no usable signal (too dark or washed out), "" when it does.
+  std::string noSignal(const ImageSignal& s) const {
+    std::string why = tooDark(s);
+    return why.empty() ? washedOut(s) : why;
+  }
 
   /// A dark frame while a map exists: recovery in the same map follows once the light returns.
   void darkFrame() { recovering_ = true, relocalized_ = false, frames_since_dark_ = 0; }

@@ -26,7 +26,8 @@ class StereoFrame {
 
   /// A new frame. has_right false: no right image (features is not called). Returns true when this frame starts
   /// a run of frames without a right image.
-  bool begin(bool has_right, RightFeatures features);
+  /// left_image: the left features' image (FeatureFrame::image; empty: no sub-pixel refinement).
+  bool begin(bool has_right, RightFeatures features, const cv::Mat& left_image = cv::Mat());
   bool hasRight() const { return has_right_; }
   /// This frame's checked left-right matches, matched at the first call (fills cur->right_obs); empty without a
   /// right image or with unusable right features. *ms: the time spent matching now (0 when already done).
@@ -37,6 +38,7 @@ class StereoFrame {
  private:
   StereoMatcher matcher_;
   RightFeatures features_;
+  cv::Mat left_image_;
   bool has_right_ = false;
   bool last_missing_ = false;
   bool matched_ = false;

@@ -5,16 +5,18 @@
 // left bearing's epipolar plane (E = [t]x R of T_r_l, as an angle times the right focal length), octave within
 // +-1 and on the near side of the depth range (the ray crosses [min_depth, max_depth]); the best Hamming distance
 // must be <= (match_threshold_high + match_threshold_low) / 2 (ORB-SLAM's stereo threshold) and < match_ratio x
-// the second best. Each right keypoint keeps its best left partner only. The pair is triangulated (DLT on
-// bearings); kept when the depth is positive in both cameras and within [stereo_min_depth,
-// stereo_max_depth_baselines x baseline] of the left camera and the reprojection error in both images passes the
-// chi2 test (5.991 sigma^2).
+// the second best. Each right keypoint keeps its best left partner only. With the two images, the right pixel is
+// refined along the epipolar curve (stereo_refinement.h). The pair is triangulated (DLT on bearings); kept when
+// the depth is positive in both cameras and within [stereo_min_depth, stereo_max_depth_baselines x baseline] of
+// the left camera and the reprojection error in both images passes the chi2 test (5.991 sigma^2).
 //
-// Depth range: up to 200 baselines (22 m for EuRoC, where the disparity of a 458-px focal length is ~2.3 px, about
-// the epipolar tolerance): far points are uncertain in depth, but the local BA weighs each point by its left and
-// right reprojection errors, so they still constrain the rotation and get their depth from later keyframes. A
-// cap at 40 baselines (ORB-SLAM's "close point" ThDepth; 4.4 m at EuRoC) kept half of the EuRoC MH_01 points out
-// of the first map: frames 0-305 then gave 61 mm SE(3) ATE and a 0.97 scale instead of 4.5 mm and 1.006.
+// Depth range: up to 1000 baselines (110 m for EuRoC, ~0.5 px of disparity at a 458-px focal length): far points
+// are uncertain in depth, but the local BA weighs each point by its left and right reprojection errors, so they
+// still constrain the rotation and get their depth from later keyframes. Any cap on the measured depth keeps the
+// matches whose disparity error was positive near it (depths short, scale short): a simulated street (points at
+// 3-65 m) gave a 1.063 scale at 200 baselines with raw disparities. A cap at 40 baselines (ORB-SLAM's "close
+// point" ThDepth; 4.4 m at EuRoC) kept half of the EuRoC MH_01 points out of the first map: frames 0-305 then gave
+// 61 mm SE(3) ATE and a 0.97 scale instead of 4.5 mm and 1.006.
 #pragma once
 
 #include "iraf_vo/camera/stereo_rig.h"
@@ -31,6 +33,8 @@ struct StereoMatch {
   int left = -1;                                 // keypoint index in the left frame
   int right = -1;                                // keypoint index in the right frame
   Eigen::Vector3d p_l = Eigen::Vector3d::Zero();  // the triangulated point in the left camera frame [m]
+  Eigen::Vector2d uv_r = Eigen::Vector2d::Zero();  // the right pixel (refined along the epipolar curve when the
+                                                   // images were given, else the right keypoint's)
   double depth() const { return p_l.norm(); }    // distance from the left camera centre
 };
 
@@ -39,15 +43,23 @@ class StereoMatcher {
   /// rig and params must outlive the matcher.
   StereoMatcher(const StereoRig& rig, const TrackerParams& params);
 
-  /// The checked matches of one stereo frame (left and right: the same exposure, undistorted by Frame).
-  std::vector<StereoMatch> match(const Frame& left, const Frame& right) const;
-  /// The same from the right image's features; fills left->right_obs (the match's right pixel and sigma per left
-  /// keypoint). false (no matches, right_obs empty) when the right features are unusable.
-  bool matchRight(Frame* left, const FeatureFrame& right, std::vector<StereoMatch>* matches) const;
+  /// The checked matches of one stereo frame (left and right: the same exposure, undistorted by Frame). With both
+  /// images (8-bit, the keypoints' level 0), each right pixel is refined along the epipolar curve first
+  /// (stereo_refinement.h; a match whose refinement fails is dropped), then triangulated and checked.
+  std::vector<StereoMatch> match(const Frame& left, const Frame& right, const cv::Mat& left_image = cv::Mat(),
+                                 const cv::Mat& right_image = cv::Mat()) const;
+  /// The same from the right image's features (and right.image when left_image is given too); fills
+  /// left->right_obs (the match's right pixel and sigma per left keypoint). false (no matches, right_obs empty) when
+  /// the right features are unusable.
+  bool matchRight(Frame* left, const FeatureFrame& right, std::vector<StereoMatch>* matches,
+                  const cv::Mat& left_image = cv::Mat()) const;
 
   double maxDepth() const { return max_depth_; }
 
  private:
+  /// Left keypoint i's right pixel and bearing refined along the epipolar curve (step: the finer octave's pixel).
+  bool refineRight(const Frame& left, size_t i, int right_octave, const cv::Mat& left_image, const cv::Mat& right_image,
+                   Eigen::Vector2d* uv_r, Eigen::Vector3d* b_r) const;
   const StereoRig& rig_;
   const TrackerParams& p_;
   Eigen::Matrix3d E_;  // b_r^T E b_l = 0

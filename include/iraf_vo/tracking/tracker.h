@@ -91,6 +91,7 @@ struct TrackResult {
   bool stereo = false;         // stereo tracker: the right image of this frame was used
   bool right_missing = false;  // stereo tracker: this frame had no right image (tracked with the left camera)
   int stereo_matches = 0;      // stereo tracker: left-right matches of this frame (0 when not matched)
+  int right_inliers = 0;       // stereo tracker: right-image residuals in this frame's final pose refinement
   TrackTiming timing;
 };
 
@@ -103,7 +104,8 @@ struct TrackerStats {
   long initializations = 0;
   long keyframes = 0;
   long rejected = 0;               // tracked poses rejected by the health monitor (counted as lost frames)
-  long dark_frames = 0;            // frames too dark to track (counted as lost frames; the map is kept)
+  long dark_frames = 0;            // frames without usable signal, too dark or washed out (counted as lost
+                                   // frames; the map is kept)
   long dark_events = 0;            // runs of consecutive dark frames
   long relocalizations = 0;        // tracked again in the same map after dark frames (no reset)
   long frames_to_relocalize_max = 0;  // frames with signal needed by the slowest of those relocalizations

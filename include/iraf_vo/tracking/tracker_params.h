@@ -74,8 +74,14 @@ struct TrackerParams {
   double stereo_epipolar_px = 2.0;          // left-right candidates within this distance of the epipolar line
                                             // (x the keypoint's sigma) [px]
   double stereo_min_depth = 0.1;            // stereo points closer than this are dropped [m]
-  double stereo_max_depth_baselines = 200.0;  // ... and farther than this many baselines (stereo_matcher.h)
+  double stereo_max_depth_baselines = 1000.0;  // ... and farther than this many baselines (stereo_matcher.h)
   int stereo_init_min_points = 100;         // stereo points the first (metric) map needs from one frame
+  bool stereo_match_every_frame = false;    // true: left-right matching (and the right front-end) on every frame,
+                                            // right residuals in every pose refinement; false: on the
+                                            // initialization and keyframes only, whose pose is refined again
+                                            // with them (docs/stereo.md)
+  int stereo_ba_max_iterations = 5;         // local BA iterations of a stereo map (ba_max_num_iterations: of a
+                                            // monocular one): its cost falls < 0.1 % per iteration after ~4
   // ---- sliding-window BA ----
   int ba_window_size = 10;
   int max_map_keyframes = 25;           // keyframes kept (older are dropped); the local BA's fixed anchors are the
@@ -95,6 +101,8 @@ struct TrackerParams {
   double dark_min_snr = 1.0;            // ... it is when its estimated SNR (contrast / noise of its 4x4-pixel
                                         // means, image_signal.h) is below this
   double dark_min_contrast = 0.3;       // ... or the contrast of those means above the noise is below this [grey]
+  double washout_min_clipped = 0.85;    // an image with at least this fraction of its 4x4-pixel means clipped
+                                        // white (>= 250) is washed out: no usable signal either (1 = never)
   int dark_relocalization_frames = 40;  // for this many frames after dark ones a loss resets the map only after
                                         // this many lost frames (instead of lost_frames_before_reset): the
                                         // tracker relocalizes in the same map meanwhile

@@ -1,0 +1,62 @@
+#include "iraf_vo/tracking/stereo_refinement.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace iraf_vo {
+
+namespace {
+
+/// A (2 w + 1)^2 patch around `centre` sampled every `step` px (bilinear), minus its mean. false outside the image.
+bool samplePatch(const cv::Mat& im, const Eigen::Vector2d& centre, double step, int w, std::vector<float>* out) {
+  out->clear();
+  const double reach = w * step + 1.0;
+  if (centre.x() - reach < 0.0 || centre.y() - reach < 0.0 || centre.x() + reach > im.cols - 1 ||
+      centre.y() + reach > im.rows - 1)
+    return false;
+  double sum = 0.0;
+  for (int y = -w; y <= w; ++y) {
+    for (int x = -w; x <= w; ++x) {
+      const double u = centre.x() + x * step, v = centre.y() + y * step;
+      const int u0 = static_cast<int>(u), v0 = static_cast<int>(v);
+      const float au = static_cast<float>(u - u0), av = static_cast<float>(v - v0);
+      const uint8_t* r0 = im.ptr<uint8_t>(v0) + u0;
+      const uint8_t* r1 = im.ptr<uint8_t>(v0 + 1) + u0;
+      const float s = (1.f - av) * ((1.f - au) * r0[0] + au * r0[1]) + av * ((1.f - au) * r1[0] + au * r1[1]);
+      out->push_back(s);
+      sum += s;
+    }
+  }
+  const float mean = static_cast<float>(sum / static_cast<double>(out->size()));
+  for (float& s : *out) s -= mean;
+  return true;
+}
+
+}  // namespace
+
+bool refineAlongEpipolar(const cv::Mat& left, const cv::Mat& right, const Eigen::Vector2d& uv_l,
+                         const Eigen::Vector2d& uv_r, const Eigen::Vector2d& direction, double step,
+                         Eigen::Vector2d* refined, const EpipolarPatchSearch& search) {
+  if (left.type() != CV_8UC1 || right.type() != CV_8UC1 || !(step > 0.0) || !direction.allFinite()) return false;
+  const int w = search.half_window, L = search.half_range;
+  std::vector<float> pl, pr;
+  if (!samplePatch(left, uv_l, step, w, &pl)) return false;
+  std::vector<double> cost(static_cast<size_t>(2 * L + 1));
+  for (int k = -L; k <= L; ++k) {
+    if (!samplePatch(right, uv_r + direction * (k * step), step, w, &pr)) return false;
+    double sad = 0.0;
+    for (size_t q = 0; q < pl.size(); ++q) sad += std::abs(pl[q] - pr[q]);
+    cost[static_cast<size_t>(k + L)] = sad;
+  }
+  const int best = static_cast<int>(std::min_element(cost.begin(), cost.end()) - cost.begin());
+  if (best == 0 || best == 2 * L) return false;
+  const double c0 = cost[best - 1], c1 = cost[best], c2 = cost[best + 1];
+  const double den = 2.0 * (c0 + c2 - 2.0 * c1);
+  const double delta = den > 0.0 ? (c0 - c2) / den : 0.0;
+  if (!(std::abs(delta) <= 1.0)) return false;
+  *refined = uv_r + direction * ((best - L + delta) * step);
+  return true;
+}
+
+}  // namespace iraf_vo
