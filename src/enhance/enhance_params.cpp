@@ -48,6 +48,11 @@ const ParamTable<EnhanceParams>& enhanceParamTable() {
                       "sharpening of the noise"),
           doubleParam("unsharp_full_snr", &P::unsharp_full_snr, 0.0, 100.0,
                       "At or above this estimated SNR the unsharp amount is eta (linear in between); 0 = eta always"),
+          doubleParam("unsharp_noise_full", &P::unsharp_noise_full, 0.0, 255.0,
+                      "At or below this pixel noise [grey levels] the unsharp amount is eta (SNR ramp permitting)"),
+          doubleParam("unsharp_noise_none", &P::unsharp_noise_none, 0.0, 255.0,
+                      "At or above this pixel noise [grey levels] the unsharp amount is 1: no sharpening of the "
+                      "noise (linear from unsharp_noise_full); 0 = off"),
           doubleParam("clahe_clip_limit", &P::clahe_clip_limit, 0.1, 40.0, "CLAHE clip limit (ORB-SLAM3 TUM-VI: 3.0)"),
           intParam("clahe_tiles", &P::clahe_tiles, 1, 32, "CLAHE tiles per side (ORB-SLAM3 TUM-VI: 8)"),
       });

@@ -85,6 +85,13 @@ double unsharpAmount(double snr, const EnhanceParams& cfg) {
   return 1.0 + (cfg.eta - 1.0) * (snr - cfg.unsharp_min_snr) / (cfg.unsharp_full_snr - cfg.unsharp_min_snr);
 }
 
+double unsharpAmountForNoise(double noise, const EnhanceParams& cfg) {
+  if (cfg.unsharp_noise_none <= 0.0 || noise <= cfg.unsharp_noise_full) return cfg.eta;
+  if (noise >= cfg.unsharp_noise_none) return 1.0;
+  const double span = cfg.unsharp_noise_none - cfg.unsharp_noise_full;
+  return cfg.eta + (1.0 - cfg.eta) * (noise - cfg.unsharp_noise_full) / span;
+}
+
 #if defined(IRAF_VO_AVX512_KERNELS)
 namespace blend_avx512 {
 int blendRow(const uint8_t* pi, const uint8_t* pb, const uint8_t* pg, float wi, float wb, float wg, int n,
@@ -216,6 +223,11 @@ EnhanceResult Enhancer::enhance(const cv::Mat& gray, const EnhanceParams& cfg) {
       if (cfg.unsharp_full_snr > 0.0 && cfg.eta != 1.0) {
         res.signal = measureImageSignal(gray);
         if (res.signal.measured) res.unsharp_amount = unsharpAmount(res.signal.snr, cfg);
+      }
+      if (cfg.unsharp_noise_none > 0.0 && cfg.eta != 1.0) {
+        res.pixel_noise = estimatePixelNoise(gray);
+        const double by_noise = unsharpAmountForNoise(res.pixel_noise, cfg);
+        if (std::abs(by_noise - 1.0) < std::abs(res.unsharp_amount - 1.0)) res.unsharp_amount = by_noise;
       }
       const double eps = cfg.epsilon * (gamma_img == &gamma_ ? res.gamma_weight : 1.0);
       const float wi = static_cast<float>(res.unsharp_amount);

@@ -121,7 +121,8 @@ TEST(Enhancer, CombinationEqualsScalarEquationsElevenTwelveExactly) {
   cv::RNG rng(11);
   rng.fill(img, cv::RNG::UNIFORM, 0, 60);
   EnhanceParams p;
-  p.unsharp_full_snr = 0.0;  // eta at every SNR (this image is noise only)
+  p.unsharp_full_snr = 0.0;  // eta at every SNR and noise level (this image is noise only)
+  p.unsharp_noise_none = 0.0;
   for (bool avx512 : {false, true}) {
   SCOPED_TRACE(enhanceBlendUseAvx512(avx512) ? "AVX-512" : "128-bit");
   Enhancer e;
@@ -177,6 +178,63 @@ TEST(Enhancer, NoisyImageIsNotSharpened) {
   const EnhanceResult clean = e.enhance(iraf_vo_test::texturedImage(), p);
   EXPECT_GT(clean.signal.snr, p.unsharp_full_snr);
   EXPECT_DOUBLE_EQ(clean.unsharp_amount, p.eta);
+}
+
+/// texturedImage() plus Gaussian noise of `sigma` grey levels (rounded, clipped to 8 bits).
+cv::Mat withNoise(const cv::Mat& img, double sigma, uint64_t seed) {
+  cv::Mat noise(img.size(), CV_32F), f, out;
+  cv::RNG rng(seed);
+  rng.fill(noise, cv::RNG::NORMAL, 0, sigma);
+  img.convertTo(f, CV_32F);
+  cv::Mat(f + noise).convertTo(out, CV_8U);
+  return out;
+}
+
+TEST(PixelNoise, MeasuresSensorNoiseNotTexture) {
+  // Texture at 4-48 px scales (the rostest render's kind of image, where the 4x4-mean SNR reads 7-8): no noise
+  // found; added Gaussian noise of 3 / 8 / 20 grey levels found within 15 %.
+  const cv::Mat tex = iraf_vo_test::texturedImage(376, 240);
+  EXPECT_LT(estimatePixelNoise(tex), 1.5);
+  for (double sigma : {3.0, 8.0, 20.0}) {
+    const double est = estimatePixelNoise(withNoise(tex, sigma, 5));
+    EXPECT_NEAR(est, sigma, 0.15 * sigma) << "sigma " << sigma;
+  }
+  EXPECT_EQ(estimatePixelNoise(cv::Mat()), 0.0);
+  EXPECT_EQ(estimatePixelNoise(cv::Mat(2, 40, CV_8U, cv::Scalar(9))), 0.0);
+  EXPECT_EQ(estimatePixelNoise(cv::Mat(20, 20, CV_32F, cv::Scalar(9))), 0.0);
+}
+
+TEST(Enhancer, UnsharpAmountFollowsThePixelNoise) {
+  EnhanceParams p;  // eta 1.5, ramp over 6..10 grey levels
+  EXPECT_DOUBLE_EQ(unsharpAmountForNoise(1.0, p), p.eta);
+  EXPECT_DOUBLE_EQ(unsharpAmountForNoise(6.0, p), p.eta);
+  EXPECT_DOUBLE_EQ(unsharpAmountForNoise(8.0, p), 1.0 + 0.5 * (p.eta - 1.0));
+  EXPECT_DOUBLE_EQ(unsharpAmountForNoise(10.0, p), 1.0);
+  EXPECT_DOUBLE_EQ(unsharpAmountForNoise(40.0, p), 1.0);
+  p.unsharp_noise_none = 0.0;  // off: the paper's eta always
+  EXPECT_DOUBLE_EQ(unsharpAmountForNoise(40.0, p), p.eta);
+}
+
+TEST(Enhancer, DefaultDoesNotSharpenTheNoiseOfAHighGainCamera) {
+  // The default settings on a textured image under the noise of a camera at high gain (20 grey levels): the
+  // output carries no more noise than the input (the paper's fixed amount 1.5 adds half of it again), while a
+  // clean image keeps the full amount, byte for byte as with the ramp off.
+  const cv::Mat tex = iraf_vo_test::texturedImage(376, 240);
+  const cv::Mat noisy = withNoise(tex, 20.0, 9);
+  EnhanceParams p, paper;
+  p.mu_expected = paper.mu_expected = cv::mean(noisy)[0];  // a normal image: no gamma term
+  paper.unsharp_noise_none = 0.0;
+  Enhancer e;
+  const EnhanceResult r = e.enhance(noisy, p);
+  EXPECT_NEAR(r.pixel_noise, 20.0, 3.0);
+  EXPECT_DOUBLE_EQ(r.unsharp_amount, 1.0);
+  const double in = estimatePixelNoise(noisy), out = estimatePixelNoise(r.image);
+  const double out_paper = estimatePixelNoise(e.enhance(noisy, paper).image);
+  EXPECT_LT(out, 1.05 * in);
+  EXPECT_GT(out_paper, 1.3 * in);
+  const EnhanceResult clean = e.enhance(tex, p);
+  EXPECT_DOUBLE_EQ(clean.unsharp_amount, p.eta);
+  EXPECT_EQ(cv::norm(clean.image, e.enhance(tex, paper).image, cv::NORM_INF), 0.0);
 }
 
 TEST(Enhancer, SharpeningIsNotClippedBeforeCombination) {

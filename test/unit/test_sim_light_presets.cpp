@@ -100,6 +100,29 @@ TEST(SimLightPresets, NightIsLongExposureHighGainAndNoisy) {
   EXPECT_GT(localNoise(night_img[10]), 2.5 * localNoise(clean_img[10]));
 }
 
+TEST(SimLightPresets, NightOnRealImagesHasTheNoiseOfTheirSensorAtGain48) {
+  // A flat real image (grey 100) through the night profile: the camera ends at 4x the exposure and gain 48; the
+  // output's mean and variance are the sensor model's at that gain with EuRoC's 0.05 DN/e- and 10 e- read noise
+  // (2.4 DN/e-: var = 2.4 * mean + 576 + ...), within 10 %.
+  LightProfile p;
+  ASSERT_TRUE(iraf_vo::lightProfile("night", 8, 20.0, 0.01, true, 1, &p));
+  EXPECT_DOUBLE_EQ(p.sensor.dn_per_electron, 0.05);
+  const cv::Mat flat(kH, kW, CV_32F, cv::Scalar(100.f));
+  ImageFormation f(p, nullptr);
+  f.settle(flat, nullptr);
+  cv::Mat img;
+  FrameLight rec;
+  f.capture(0, flat, nullptr, &img, &rec);
+  EXPECT_DOUBLE_EQ(rec.exposure.gain, 48.0);
+  EXPECT_DOUBLE_EQ(rec.exposure.time_s, 0.04);
+  const double expected_mean = 100.0 * 0.0023 * 4.0 * 48.0;
+  cv::Scalar mean, sd;
+  cv::meanStdDev(img, mean, sd);
+  EXPECT_NEAR(mean[0], expected_mean, 0.05 * expected_mean);
+  const double var = iraf_vo::SensorModel(p.sensor).noiseVarianceDn(expected_mean, 48.0);
+  EXPECT_NEAR(sd[0] * sd[0], var, 0.1 * var);
+}
+
 TEST(SimLightPresets, AeHuntingOscillatesWithClipping) {
   const std::vector<FrameLight> h = run(profile("ae_hunting", 60), 60);
   const double right = run(profile("light_switch", 5), 5)[0].exposure.time_s;  // settled, calm controller

@@ -47,6 +47,11 @@ struct EnhanceParams {
   // unsharp_full_snr 0 = eta at every SNR (the paper).
   double unsharp_min_snr = 5.0;
   double unsharp_full_snr = 0.0;  // 0 by default: docs/decisions.md
+  // The same from the pixel-scale sensor noise (enhance/pixel_noise.h), which fine texture does not raise: the
+  // amount is eta up to unsharp_noise_full grey levels of noise and 1 from unsharp_noise_none on (linear in
+  // between). unsharp_noise_none 0 = off. The smaller of the two amounts applies.
+  double unsharp_noise_full = 6.0;
+  double unsharp_noise_none = 10.0;
 
   // Comparison front-ends (Table I): CLAHE as ORB-SLAM3 uses it for TUM-VI.
   double clahe_clip_limit = 3.0;

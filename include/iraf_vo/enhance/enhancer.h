@@ -15,6 +15,7 @@
 #include <string>
 
 #include "iraf_vo/enhance/enhance_params.h"
+#include "iraf_vo/enhance/pixel_noise.h"
 #include "iraf_vo/features/image_signal.h"
 
 namespace iraf_vo {
@@ -30,12 +31,17 @@ struct EnhanceResult {
   double gamma_weight = 0.0;  // weight of the gamma correction actually applied (0 for a normal image; brightness_ramp)
   double unsharp_amount = 0.0;  // eq. (12) eta actually applied (iraf): eta, lowered toward 1 at a low SNR
   ImageSignal signal;           // of the input, when the unsharp amount needed it (measured = false otherwise)
+  double pixel_noise = 0.0;     // of the input [grey levels] (enhance/pixel_noise.h), when the amount needed it
   double ms = 0.0;  // wall time spent in enhance()
 };
 
 /// eq. (12)'s unsharp amount at an image's estimated SNR: cfg.eta at or above cfg.unsharp_full_snr (or when it is
 /// 0), 1 (no sharpening) at or below cfg.unsharp_min_snr, linear in between.
 double unsharpAmount(double snr, const EnhanceParams& cfg);
+
+/// eq. (12)'s unsharp amount at an image's pixel noise [grey levels]: cfg.eta at or below cfg.unsharp_noise_full
+/// (or when cfg.unsharp_noise_none is 0), 1 at or above cfg.unsharp_noise_none, linear in between.
+double unsharpAmountForNoise(double noise, const EnhanceParams& cfg);
 
 /// Lets the iraf blend (eqs. 11-12) use AVX-512 (where the CPU has AVX-512BW; the default) or 128-bit SIMD:
 /// the same bytes. For tests; returns whether AVX-512 is now in use.

@@ -5,13 +5,14 @@
 //
 //   clean        normal light, fixed exposure
 //   dark / overexposed / flicker / mixed   the photometric presets' light events, fixed exposure
-//   night        1.5 % of the normal light all along: long exposure, high gain (noise grows with it)
+//   night        0.6 % of the normal light all along (0.23 % on real images): the longest exposure and gain
+//                38-48, read noise amplified by the gain (estimated SNR 4.4-6, as a dim room at high gain)
 //   ae_hunting   normal light, auto-exposure loop too aggressive for its lag: exposure oscillating about
 //                0.4x-2.5x of the right one with a period under 1 s, clipping at the peaks
 //   light_switch the light goes off (5 % left) and on twice; the auto-exposure recovers after each switch
 //   blackout     2.5 s of no light at all (mean grey < 5), then the light returns (saturated, recovering)
-//   flashlight   dark room (0.5 % ambient) lit only by a weak cone fixed to the camera (10 % of the normal
-//                light at 2 m on its axis, so the camera runs at high gain): falls off with the angle
+//   flashlight   dark room (0.5 % ambient) lit only by a weak cone fixed to the camera (3 % of the normal
+//                light at 2 m on its axis, so the camera runs at high gain, up to 48): falls off with the angle
 //                from the optical axis and with distance^2 (needs the renderer's depth)
 //   glare        bright lamps in the scene (x16 radiance) saturate parts of the view; the auto-exposure
 //                meters them and darkens the rest
@@ -31,7 +32,7 @@ namespace iraf_vo {
 /// sigma such that the gain halves at half_angle_deg.
 struct FlashlightParams {
   bool enabled = false;
-  double intensity = 0.1;           // gain on the axis at reference_distance_m (a hand lamp: high gain)
+  double intensity = 0.1;           // gain on the axis at reference_distance_m (the flashlight profile: 0.03)
   double reference_distance_m = 2.0;
   double half_angle_deg = 28.0;
   double ambient = 0.005;           // the dark room's remaining light (share of the normal light)
