@@ -210,6 +210,13 @@ iraf_vo::EvalResult evaluate(const iraf_vo::Trajectory& gt, const iraf_vo::Traje
   return r;
 }
 
+// iraf_vo_run with default settings on `seq`: seq/traj.txt, seq/stats.json, seq/frames.csv.
+bool runTracked(const std::string& seq, std::string* out) {
+  return runCommand(kBin + "/iraf_vo_run --dataset " + seq + " --mode iraf --quiet --out " + seq + "/traj.txt" +
+                        " --stats " + seq + "/stats.json --frame-log " + seq + "/frames.csv",
+                    out) == 0;
+}
+
 std::string simulate(const std::string& preset, const std::string& out, int frames) {
   std::string log;
   const int rc = runCommand(kBin + "/iraf_vo_simulate --preset " + preset + " --seed 0 --frames " +
@@ -229,11 +236,7 @@ TEST(TrackingDarkness, BlackoutIsLostWithoutPoseAndRelocalizesInTheSameMap) {
   const std::string sim_error = simulate("blackout --speed 0.5", seq, 150);
   ASSERT_EQ(sim_error, "");
   std::string out, err;
-  ASSERT_EQ(runCommand(kBin + "/iraf_vo_run --dataset " + seq + " --mode iraf --quiet --out " + seq + "/traj.txt" +
-                           " --stats " + seq + "/stats.json --frame-log " + seq + "/frames.csv",
-                       &out),
-            0)
-      << out;
+  ASSERT_TRUE(runTracked(seq, &out)) << out;
   const std::map<long, FrameRow> rows = readFrameLog(seq + "/frames.csv");
   ASSERT_EQ(rows.size(), 150u);
   long first_dark = -1, last_dark = -1;
@@ -288,11 +291,7 @@ TEST(TrackingDarkness, WashedOutFramesAfterTheLightReturnsKeepTheMap) {
   const std::string seq = tmpRoot() + "light_switch";
   ASSERT_EQ(simulate("light_switch", seq, 120), "");
   std::string out, err;
-  ASSERT_EQ(runCommand(kBin + "/iraf_vo_run --dataset " + seq + " --mode iraf --quiet --out " + seq + "/traj.txt" +
-                           " --stats " + seq + "/stats.json --frame-log " + seq + "/frames.csv",
-                       &out),
-            0)
-      << out;
+  ASSERT_TRUE(runTracked(seq, &out)) << out;
   const std::map<long, FrameRow> rows = readFrameLog(seq + "/frames.csv");
   ASSERT_EQ(rows.size(), 120u);
   int washed_out = 0;
