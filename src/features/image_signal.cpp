@@ -5,6 +5,8 @@
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
+#include "iraf_vo/common/mask_noise.h"
+
 namespace iraf_vo {
 
 namespace {
@@ -13,19 +15,6 @@ constexpr int kBlock = 4;           // the estimate is made on kBlock x kBlock m
 constexpr int kHistogramBins = 4096;  // |mask response| histogram, in 1/16 grey levels (larger values: last bin)
 constexpr float kBinsPerGrey = 16.0f;
 constexpr float kClippedGrey = 250.0f;  // a 4x4 mean at least this bright is clipped white
-
-// The median of |mask response| from its histogram, interpolated inside the bin that holds it.
-double histogramMedian(const std::vector<long>& hist, long total) {
-  const double half = 0.5 * static_cast<double>(total);
-  long below = 0;
-  for (size_t v = 0; v < hist.size(); ++v) {
-    if (hist[v] > 0 && static_cast<double>(below + hist[v]) >= half)
-      return (static_cast<double>(v) + (half - static_cast<double>(below)) / static_cast<double>(hist[v])) /
-             kBinsPerGrey;
-    below += hist[v];
-  }
-  return static_cast<double>(hist.size()) / kBinsPerGrey;
-}
 
 // The kBlock x kBlock means (CV_32F), as cv::resize with INTER_AREA gives them on the float image. When the size is a
 // multiple of kBlock they are integer sums / 16: exact in float either way, so summed here in integers (5x faster).
@@ -63,22 +52,20 @@ ImageSignal measureImageSignal(const cv::Mat& gray) {
   blockMeans(gray, &small);
   cv::Scalar mean, stddev;
   cv::meanStdDev(small, mean, stddev);
-  std::vector<long> hist(kHistogramBins, 0);
-  long total = 0;
+  MaskResponseHistogram responses(kHistogramBins, kBinsPerGrey, false);
   for (int y = 1; y + 1 < small.rows; ++y) {
     const float* a = small.ptr<float>(y - 1);
     const float* b = small.ptr<float>(y);
     const float* c = small.ptr<float>(y + 1);
     for (int x = 1; x + 1 < small.cols; ++x) {
-      const float r = (a[x - 1] + a[x + 1] + c[x - 1] + c[x + 1]) - 2 * (a[x] + c[x] + b[x - 1] + b[x + 1]) + 4 * b[x];
-      ++hist[std::min(static_cast<int>(std::abs(r) * kBinsPerGrey), kHistogramBins - 1)];
-      ++total;
+      const float r = maskResponse<float, float>(a, b, c, x);
+      responses.addBin(static_cast<int>(std::abs(r) * kBinsPerGrey));  // past the last bin: counted in it
     }
   }
   s.measured = true;
   s.mean = mean[0];
   const double quantization = 1.0 / (kBlock * std::sqrt(12.0));
-  s.noise_sigma = std::max(quantization, 1.4826 * histogramMedian(hist, total) / 6.0);
+  s.noise_sigma = std::max(quantization, responses.noiseSigma());
   s.contrast = std::sqrt(std::max(0.0, stddev[0] * stddev[0] - s.noise_sigma * s.noise_sigma));
   s.snr = s.contrast / s.noise_sigma;
   s.clipped = static_cast<double>(cv::countNonZero(small >= kClippedGrey)) / static_cast<double>(small.total());

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "common/test_data.h"
+#include "iraf_vo/common/mask_noise.h"
 #include "iraf_vo/enhance/enhancer.h"
 
 using namespace iraf_vo;
@@ -202,6 +203,24 @@ TEST(PixelNoise, MeasuresSensorNoiseNotTexture) {
   EXPECT_EQ(estimatePixelNoise(cv::Mat()), 0.0);
   EXPECT_EQ(estimatePixelNoise(cv::Mat(2, 40, CV_8U, cv::Scalar(9))), 0.0);
   EXPECT_EQ(estimatePixelNoise(cv::Mat(20, 20, CV_32F, cv::Scalar(9))), 0.0);
+}
+
+TEST(MaskResponseHistogram, MedianInterpolatesInsideTheBinThatHoldsIt) {
+  // Integer responses: bin v holds [v - 0.5, v + 0.5). Responses 0, 1, 1, 3: the half (2 of 4) falls in bin 1 after
+  // one count below, half-way through its two counts -> 0.5 + 0.5 * 1.
+  MaskResponseHistogram integers(8, 1.0, true);
+  for (int r : {0, 1, 1, 3}) integers.addBin(r);
+  EXPECT_DOUBLE_EQ(integers.median(), 1.0);
+  EXPECT_DOUBLE_EQ(integers.noiseSigma(), 1.4826 / 6.0);
+  // Binned responses, 16 bins per unit: bin v holds [v, v + 1) / 16; past the last bin counts in the last one.
+  MaskResponseHistogram binned(32, 16.0, false);
+  for (int b : {4, 8, 8, 100}) binned.addBin(b);
+  EXPECT_DOUBLE_EQ(binned.median(), (8.0 + 0.5) / 16.0);
+  binned.addBin(1000);
+  binned.addBin(1000);
+  EXPECT_EQ(binned.count(), 6);
+  EXPECT_DOUBLE_EQ(binned.median(), (8.0 + 1.0) / 16.0);
+  EXPECT_DOUBLE_EQ(MaskResponseHistogram(8, 1.0, true).median(), 0.0);
 }
 
 TEST(Enhancer, UnsharpAmountFollowsThePixelNoise) {
