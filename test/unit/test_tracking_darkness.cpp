@@ -185,6 +185,16 @@ std::map<long, FrameRow> readFrameLog(const std::string& path) {
   return rows;
 }
 
+// The first and last frame of the log that are LOST as too dark (-1 when none).
+void darkRange(const std::map<long, FrameRow>& rows, long* first, long* last) {
+  *first = *last = -1;
+  for (const auto& [i, row] : rows) {
+    if (row.note.rfind("too dark: mean", 0) != 0) continue;
+    if (*first < 0) *first = i;
+    *last = i;
+  }
+}
+
 double jsonNumber(const std::string& json, const std::string& key) {
   const size_t k = json.find("\"" + key + "\":");
   return k == std::string::npos ? -1.0 : std::atof(json.c_str() + k + key.size() + 3);
@@ -240,11 +250,7 @@ TEST(TrackingDarkness, BlackoutIsLostWithoutPoseAndRelocalizesInTheSameMap) {
   const std::map<long, FrameRow> rows = readFrameLog(seq + "/frames.csv");
   ASSERT_EQ(rows.size(), 150u);
   long first_dark = -1, last_dark = -1;
-  for (const auto& [i, row] : rows) {
-    if (row.note.rfind("too dark: mean", 0) != 0) continue;
-    if (first_dark < 0) first_dark = i;
-    last_dark = i;
-  }
+  darkRange(rows, &first_dark, &last_dark);
   EXPECT_EQ(first_dark, 60);
   EXPECT_GE(last_dark, 100);
   for (long i = first_dark; i <= last_dark; ++i) {
@@ -290,21 +296,13 @@ TEST(TrackingDarkness, AViewSeenFromFarAwayIsNoRelocalization) {
   // off; accepted with the usual 25, the wrong pose was published as TRACKING and new keyframes built on it. A
   // relocalization after darkness must be right: it needs 50 map inliers, otherwise the map is reset.
   const std::string seq = tmpRoot() + "blackout_far";
-  std::string log, out, err;
-  ASSERT_EQ(runCommand(kBin + "/iraf_vo_simulate --preset blackout --blackout-seconds 1.5 --seed 0 --frames 200 "
-                              "--threads 1 --out " + seq,
-                       &log),
-            0)
-      << log;
+  ASSERT_EQ(simulate("blackout --blackout-seconds 1.5", seq, 200), "");
+  std::string out, err;
   ASSERT_TRUE(runTracked(seq, &out)) << out;
   const std::map<long, FrameRow> rows = readFrameLog(seq + "/frames.csv");
   ASSERT_EQ(rows.size(), 200u);
   long first_dark = -1, last_dark = -1;
-  for (const auto& [i, row] : rows) {
-    if (row.note.rfind("too dark: mean", 0) != 0) continue;
-    if (first_dark < 0) first_dark = i;
-    last_dark = i;
-  }
+  darkRange(rows, &first_dark, &last_dark);
   ASSERT_EQ(first_dark, 80);
   ASSERT_GE(last_dark, 105);
   iraf_vo::Trajectory gt, est;
