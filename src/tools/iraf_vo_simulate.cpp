@@ -66,7 +66,7 @@ int main(int argc, char** argv) {
   cli.option("--preset", "P", &preset, "light profile: " + iraf_vo::lightProfileNames());
   cli.option("--out", "DIR", &out_dir, "output ASL folder");
   cli.option("--blackout-seconds", "SEC", &blackout_s, 0.05, 3600.0,
-             "--preset blackout: the length of the darkness (default 2.5 s, at most 30 % of the frames)");
+             "--preset blackout: the length of the darkness (default 1 s, at most 30 % of the frames)");
   cli.option("--motion", "M", &motion_name, iraf_vo::motionKindNames() + " (default room)");
   cli.option("--static-start", "SEC", &static_start, 0.0, 3600.0,
              "the camera stands still for SEC s, then accelerates over 1 s (any motion)");
