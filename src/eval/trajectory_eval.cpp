@@ -314,4 +314,18 @@ std::string toJson(const EvalResult& r, const EvalParams& p) {
   return os.str();
 }
 
+std::vector<EvalResult> evaluatePerMap(const Trajectory& gt, const Trajectory& est, const std::vector<double>& map_starts,
+                                       const EvalParams& params) {
+  std::vector<EvalResult> out(std::max<size_t>(1, map_starts.size()));
+  for (size_t k = 0; k < out.size(); ++k) {
+    const double t0 = k == 0 ? -1e300 : map_starts[k], t1 = k + 1 < map_starts.size() ? map_starts[k + 1] : 1e300;
+    Trajectory part;
+    for (size_t i = 0; i < est.size(); ++i)
+      if (est.stamps[i] >= t0 && est.stamps[i] < t1) part.push_back(est.stamps[i], est.poses[i]);
+    std::string error;
+    if (!evaluateTrajectory(gt, part, params, &out[k], &error)) out[k] = EvalResult();
+  }
+  return out;
+}
+
 }  // namespace iraf_vo

@@ -55,6 +55,7 @@ void RunRecorder::add(const FrontEndItem& it, const TrackResult& r, long process
                << "," << it.frame.keypoints.size() << "," << r.matches << "," << r.inliers << "," << r.is_keyframe
                << "," << r.used_pnp << "," << r.timing.ms_total << "," << it.frame.signal.mean << ","
                << it.frame.signal.snr << "," << csvNote(r) << "\n";
+  if (r.initialized_now) map_starts_.push_back(it.frame.stamp);
   ms_["read"].push_back(it.ms_read);
   ms_["enhance"].push_back(it.ms_enhance);
   ms_["features"].push_back(it.ms_features);
@@ -110,6 +111,14 @@ std::string RunRecorder::summary(const RunTotals& t) const {
   if (t.have_ate)
     s << "ATE (Sim3) RMSE " << t.ate.ate.rmse << " m, median " << t.ate.ate.median << " m, max " << t.ate.ate.max
       << " m over " << t.ate.n_matched << " poses (scale " << t.ate.scale << ", GT path " << t.ate.gt_length << " m)\n";
+  for (size_t k = 0; k < t.ate_per_map.size(); ++k) {
+    const EvalResult& m = t.ate_per_map[k];
+    if (k == 0) s << "ATE per map (a reset starts a new map at a new scale; each aligned on its own):";
+    s << (k ? "," : "") << " map " << k + 1 << ": ";
+    if (m.n_matched > 0) s << m.ate.rmse << " m over " << m.n_matched << " poses (scale " << m.scale << ")";
+    else s << "too few poses";
+    if (k + 1 == t.ate_per_map.size()) s << "\n";
+  }
   if (t.have_ate_se3)
     s << "ATE (SE3) RMSE " << t.ate_se3.ate.rmse << " m, median " << t.ate_se3.ate.median << " m, max "
       << t.ate_se3.ate.max << " m\n";
@@ -152,6 +161,13 @@ bool RunRecorder::writeJson(const std::string& path, const RunTotals& t, std::st
     js << ",\n  \"ate_rmse\": " << t.ate.ate.rmse << ",\n  \"ate_median\": " << t.ate.ate.median
        << ",\n  \"ate_scale\": " << t.ate.scale << ",\n  \"ate_matched\": " << t.ate.n_matched;
   if (t.have_ate_final) js << ",\n  \"ate_final_rmse\": " << t.ate_final.ate.rmse;
+  if (!t.ate_per_map.empty()) {
+    js << ",\n  \"ate_per_map_rmse\": [";
+    for (size_t k = 0; k < t.ate_per_map.size(); ++k) js << (k ? ", " : "") << t.ate_per_map[k].ate.rmse;
+    js << "],\n  \"ate_per_map_poses\": [";
+    for (size_t k = 0; k < t.ate_per_map.size(); ++k) js << (k ? ", " : "") << t.ate_per_map[k].n_matched;
+    js << "]";
+  }
   if (t.stereo)
     js << ",\n  \"stereo\": true,\n  \"baseline\": " << t.baseline << ",\n  \"stereo_matches_total\": "
        << st.stereo_matches_total << ",\n  \"stereo_matched_frames\": " << st.stereo_matched_frames

@@ -234,6 +234,8 @@ int main(int argc, char** argv) {
     iraf_vo::EvalParams evp;
     evp.align = iraf_vo::AlignMode::kSim3;
     totals.have_ate = iraf_vo::evaluateTrajectory(gt, recorder.trajectory(), evp, &totals.ate, &totals.ate_error);
+    if (recorder.mapStarts().size() > 1)
+      totals.ate_per_map = iraf_vo::evaluatePerMap(gt, recorder.trajectory(), recorder.mapStarts(), evp);
     std::string final_error;
     totals.have_ate_final = iraf_vo::evaluateTrajectory(gt, final_trajectory, evp, &totals.ate_final, &final_error);
     if (a.stereo) {  // metric: the SE(3)-aligned ATE as well

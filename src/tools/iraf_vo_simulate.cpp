@@ -46,6 +46,7 @@ int main(int argc, char** argv) {
   std::string preset, out_dir, bag_path, motion_name = "room";
   int seed = 1, benchmark = 0;
   double static_start = 0.0;
+  double blackout_s = 0.0;  // 0: the preset's
   bool no_photos = false, stereo = false;
   iraf_vo::SimStereoRig rig;
   iraf_vo::CommandLine cli(
@@ -64,6 +65,8 @@ int main(int argc, char** argv) {
       "                 90-220 m), 10 m/s with wide curves; kitti, 10 Hz (1 m/frame), 100 frames, blur 3 x 2 ms");
   cli.option("--preset", "P", &preset, "light profile: " + iraf_vo::lightProfileNames());
   cli.option("--out", "DIR", &out_dir, "output ASL folder");
+  cli.option("--blackout-seconds", "SEC", &blackout_s, 0.05, 3600.0,
+             "--preset blackout: the length of the darkness (default 1 s, at most 30 % of the frames)");
   cli.option("--motion", "M", &motion_name, iraf_vo::motionKindNames() + " (default room)");
   cli.option("--static-start", "SEC", &static_start, 0.0, 3600.0,
              "the camera stands still for SEC s, then accelerates over 1 s (any motion)");
@@ -134,6 +137,14 @@ int main(int argc, char** argv) {
     std::cerr << "iraf_vo_simulate: unknown --preset '" << preset << "' (use " << iraf_vo::lightProfileNames() << ")\n";
     return 2;
   }
+  if (blackout_s > 0.0 && preset != "blackout") {
+    std::cerr << "iraf_vo_simulate: --blackout-seconds needs --preset blackout\n";
+    return 2;
+  }
+  if (blackout_s > 0.0)
+    for (iraf_vo::PhotometricEvent& e : light.scene.events)
+      if (e.type == iraf_vo::PhotometricEventType::kLightSwitch)
+        e.end_frame = std::min(sim.frames, e.start_frame + std::max(1, static_cast<int>(std::lround(blackout_s * sim.rate_hz))));
   // The flashlight is the only light: the scene is rendered as albedo (all ambient), the cone lights it.
   if (light.flashlight.enabled) scene_params.ambient = 1.0;
 

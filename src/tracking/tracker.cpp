@@ -146,6 +146,11 @@ bool Tracker::Impl::trackFrom(Frame& cur, const Eigen::Isometry3d& T_last, const
   res->timing.ms_match += r.ms_match;
   res->timing.ms_pose += r.ms_pose;
   if (!r.tracked) return false;
+  if (signal.awaitingRelocalization() && r.inliers < Relocalizer::kMinAcceptedInliers) {
+    res->rejected = "relocalization after darkness: " + std::to_string(r.inliers) + " map inliers < " +
+                    std::to_string(Relocalizer::kMinAcceptedInliers);
+    return false;
+  }
   res->inlier_ratio = r.refine_matches > 0 ? static_cast<double>(r.inliers) / r.refine_matches : 0.0;
   res->median_chi2 = r.median_chi2;
   if (stereo && !cur.right_obs.empty()) res->right_inliers = r.right_inliers;

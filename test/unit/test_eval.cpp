@@ -289,6 +289,37 @@ TEST(Eval, MetricAlignmentReportsTheScaleErrorThatSim3Hides) {
   EXPECT_NE(toJson(se3, p).find("\"align\": \"se3\""), std::string::npos);
 }
 
+TEST(Eval, EachMapAfterAResetIsAlignedOnItsOwn) {
+  // A run that reset its map at pose 60: the poses before are the ground truth in one frame at scale 0.5, the poses
+  // after it in another frame at scale 2 (a new map). One Sim(3) over both cannot fit; each map on its own fits.
+  const Trajectory gt = makeGt(100);
+  Sim3 A, B;
+  A.s = 0.5;
+  B.s = 2.0;
+  B.R = Eigen::AngleAxisd(1.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  B.t = Eigen::Vector3d(3, 0, -1);
+  Trajectory est;
+  for (size_t i = 0; i < gt.size(); ++i) est.push_back(gt.stamps[i], (i < 60 ? A : B).apply(gt.poses[i]));
+  EvalParams p;
+  EvalResult all;
+  std::string err;
+  ASSERT_TRUE(evaluateTrajectory(gt, est, p, &all, &err)) << err;
+  EXPECT_GT(all.ate.rmse, 0.1);
+  const std::vector<EvalResult> maps = evaluatePerMap(gt, est, {gt.stamps[0], gt.stamps[60]}, p);
+  ASSERT_EQ(maps.size(), 2u);
+  EXPECT_EQ(maps[0].n_matched, 60u);
+  EXPECT_EQ(maps[1].n_matched, 40u);
+  EXPECT_LT(maps[0].ate.rmse, 1e-9);
+  EXPECT_LT(maps[1].ate.rmse, 1e-9);
+  EXPECT_NEAR(maps[0].scale, 2.0, 1e-9);
+  EXPECT_NEAR(maps[1].scale, 0.5, 1e-9);
+  // A map with fewer than 3 poses: n_matched 0; no start given: one map, the whole run.
+  EXPECT_EQ(evaluatePerMap(gt, est, {gt.stamps[0], gt.stamps[98]}, p)[1].n_matched, 0u);
+  const std::vector<EvalResult> one = evaluatePerMap(gt, est, {}, p);
+  ASSERT_EQ(one.size(), 1u);
+  EXPECT_NEAR(one[0].ate.rmse, all.ate.rmse, 1e-12);
+}
+
 TEST(Eval, SharedEurocGroundTruthAgainstPerturbedCopy) {
   const std::string path = std::string(IRAF_VO_SHARED_DIR) + "/data/euroc_mh01_600/groundtruth/groundtruth_tum_cam0.txt";
   struct stat st;

@@ -87,6 +87,12 @@ struct EvalResult {
 bool evaluateTrajectory(const Trajectory& gt, const Trajectory& est, const EvalParams& params, EvalResult* result,
                         std::string* error);
 
+/// The ATE of each map of a run that reset its map (a new map, a new scale and frame): the maps begin at the
+/// stamps `map_starts` (increasing; poses before the first start belong to the first map), each map's poses are
+/// aligned on their own with `params`; a map with too few poses gives n_matched 0.
+std::vector<EvalResult> evaluatePerMap(const Trajectory& gt, const Trajectory& est, const std::vector<double>& map_starts,
+                                       const EvalParams& params);
+
 /// CSV "t,error,est_x,est_y,est_z,gt_x,gt_y,gt_z" (aligned estimate), one row per matched pose.
 bool writeErrorsCsv(const std::string& path, const EvalResult& result, std::string* error);
 /// Human-readable multi-line summary.

@@ -42,6 +42,9 @@ struct RunTotals {
   double baseline = 0.0;   // [m]
   bool have_ate_se3 = false;
   EvalResult ate_se3;
+  /// After a reset a new map starts at a new scale and in a new frame: with more than one map, each map's poses
+  /// aligned on their own (Sim(3)), oldest first (a map with fewer than 3 poses has n_matched 0).
+  std::vector<EvalResult> ate_per_map;
 };
 
 class RunRecorder {
@@ -52,6 +55,8 @@ class RunRecorder {
   void add(const FrontEndItem& item, const TrackResult& r, long processed);
 
   const Trajectory& trajectory() const { return trajectory_; }
+  /// The stamps of the frames that initialized a map (the first one and one after each reset).
+  const std::vector<double>& mapStarts() const { return map_starts_; }
   /// Keep what the trajectory after mapping needs (each frame's keyframe-relative pose); off by default, so a run
   /// without --out-final / --gt holds one pose per frame only.
   void keepFinalTrajectory(bool keep) { keep_final_ = keep; }
@@ -73,6 +78,7 @@ class RunRecorder {
   std::map<std::string, std::vector<double>> ms_;
   std::vector<std::pair<long, double>> rss_;  // (frames processed, MiB)
   Trajectory trajectory_;
+  std::vector<double> map_starts_;
   KeyframeAnchoredTrajectory anchored_;
   bool keep_final_ = false;
 };

@@ -10,7 +10,8 @@
 //   ae_hunting   normal light, auto-exposure loop too aggressive for its lag: exposure oscillating about
 //                0.4x-2.5x of the right one with a period under 1 s, clipping at the peaks
 //   light_switch the light goes off (5 % left) and on twice; the auto-exposure recovers after each switch
-//   blackout     2.5 s of no light at all (mean grey < 5), then the light returns (saturated, recovering)
+//   blackout     no light at all (mean grey < 5) for 1 s (2.5 s on real images), then the light returns
+//                (saturated, recovering)
 //   flashlight   dark room (0.5 % ambient) lit only by a weak cone fixed to the camera (3 % of the normal
 //                light at 2 m on its axis, so the camera runs at high gain, up to 48): falls off with the angle
 //                from the optical axis and with distance^2 (needs the renderer's depth)

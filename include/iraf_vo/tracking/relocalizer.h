@@ -38,6 +38,10 @@ class Relocalizer {
   static constexpr int kMinPnPInliers = 10;  // ORB-SLAM: 10 PnP inliers before its projection search
   static constexpr int kEnoughPnPInliers = 50;  // a keyframe with this many ends the search (ORB-SLAM accepts a
                                                 // relocalization at 50 inliers)
+  static constexpr int kMinAcceptedInliers = 50;  // map inliers of the pose after the projection search that accept
+                                                  // a relocalization after darkness (ORB-SLAM: 50); fewer, on a
+                                                  // view seen from far away, can be a wrong pose (a plane's mirror
+                                                  // solution, repeated texture) that new keyframes then entrench
 
  private:
   const CameraModel& cam_;

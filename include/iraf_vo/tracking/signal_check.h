@@ -52,6 +52,8 @@ class SignalCheck {
   void restart() { recovering_ = false, relocalized_ = false, frames_since_dark_ = 0; }
   /// Within dark_relocalization_frames frames after dark ones.
   bool recovering() const { return recovering_; }
+  /// Recovering and not tracked yet since the last dark frame: the next pose is a relocalization in the kept map.
+  bool awaitingRelocalization() const { return recovering_ && !relocalized_; }
 
  private:
   const TrackerParams& p_;
