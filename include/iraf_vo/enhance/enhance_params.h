@@ -52,6 +52,10 @@ struct EnhanceParams {
   // between). unsharp_noise_none 0 = off. The smaller of the two amounts applies.
   double unsharp_noise_full = 6.0;
   double unsharp_noise_none = 10.0;
+  // Denoising before eqs. (1)-(12) on an image whose pixel noise exceeds denoise_noise grey levels: a Gaussian
+  // sized so that white noise of the measured level falls to about denoise_noise (sigma = noise / (2 sqrt(pi)
+  // denoise_noise), so it starts from no blur at the threshold). 0 = off.
+  double denoise_noise = 0.0;
 
   // Comparison front-ends (Table I): CLAHE as ORB-SLAM3 uses it for TUM-VI.
   double clahe_clip_limit = 3.0;
