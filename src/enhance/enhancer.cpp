@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <stdexcept>
 
 #include <opencv2/core/hal/intrin.hpp>
@@ -241,9 +240,7 @@ EnhanceResult Enhancer::enhance(const cv::Mat& gray, const EnhanceParams& cfg) {
         if (res.signal.measured) res.unsharp_amount = unsharpAmount(res.signal.snr, cfg);
       }
       if (cfg.unsharp_noise_none > 0.0 && cfg.eta != 1.0) {
-        double nz = res.pixel_noise;
-        if (getenv("IRAF_NF_AMT") && src == &denoised_) nz = std::min(nz, cfg.denoise_noise);
-        const double by_noise = unsharpAmountForNoise(nz, cfg);
+        const double by_noise = unsharpAmountForNoise(res.pixel_noise, cfg);
         if (std::abs(by_noise - 1.0) < std::abs(res.unsharp_amount - 1.0)) res.unsharp_amount = by_noise;
       }
       const double eps = cfg.epsilon * (gamma_img == &gamma_ ? res.gamma_weight : 1.0);

@@ -148,6 +148,7 @@ TEST(Enhancer, CombinationEqualsScalarEquationsElevenTwelveExactly) {
 TEST(Enhancer, UnsharpAmountFollowsTheSnrRamp) {
   EnhanceParams p;  // eta 1.5
   p.unsharp_full_snr = 8.0;  // ramp over SNR 5..8
+  p.denoise_noise = 0.0;     // the ramp alone (the denoising: test_enhance_denoise)
   EXPECT_DOUBLE_EQ(unsharpAmount(20.0, p), p.eta);
   EXPECT_DOUBLE_EQ(unsharpAmount(8.0, p), p.eta);
   EXPECT_DOUBLE_EQ(unsharpAmount(6.5, p), 1.0 + 0.5 * (p.eta - 1.0));
@@ -167,6 +168,7 @@ TEST(Enhancer, NoisyImageIsNotSharpened) {
   cv::Mat(noisy16 + noise).convertTo(noisy, CV_8U);
   EnhanceParams p;
   p.unsharp_full_snr = 8.0;  // ramp over SNR 5..8
+  p.denoise_noise = 0.0;     // the ramp alone (the denoising: test_enhance_denoise)
   p.mu_expected = cv::mean(noisy)[0];  // normal
   Enhancer e;
   const EnhanceResult r = e.enhance(noisy, p);
@@ -224,6 +226,7 @@ TEST(Enhancer, DefaultDoesNotSharpenTheNoiseOfAHighGainCamera) {
   EnhanceParams p, paper;
   p.mu_expected = paper.mu_expected = cv::mean(noisy)[0];  // a normal image: no gamma term
   paper.unsharp_noise_none = 0.0;
+  p.denoise_noise = paper.denoise_noise = 0.0;  // the amount alone (the denoising: test_enhance_denoise)
   Enhancer e;
   const EnhanceResult r = e.enhance(noisy, p);
   EXPECT_NEAR(r.pixel_noise, 20.0, 3.0);

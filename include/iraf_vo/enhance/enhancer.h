@@ -31,7 +31,7 @@ struct EnhanceResult {
   double gamma_weight = 0.0;  // weight of the gamma correction actually applied (0 for a normal image; brightness_ramp)
   double unsharp_amount = 0.0;  // eq. (12) eta actually applied (iraf): eta, lowered toward 1 at a low SNR
   ImageSignal signal;           // of the input, when the unsharp amount needed it (measured = false otherwise)
-  double pixel_noise = 0.0;     // of the input [grey levels] (enhance/pixel_noise.h), when the amount needed it
+  double pixel_noise = 0.0;     // of the input [grey levels] (enhance/pixel_noise.h), when the amount or the denoising needed it
   double denoise_sigma = 0.0;   // of the Gaussian that denoised the input before eqs. (1)-(12) (0 = none)
   double ms = 0.0;  // wall time spent in enhance()
 };
