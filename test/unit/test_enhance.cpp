@@ -12,6 +12,7 @@
 
 using namespace iraf_vo;
 using iraf_vo_test::entropyBits;
+using iraf_vo_test::withNoise;
 
 namespace {
 
@@ -123,6 +124,7 @@ TEST(Enhancer, CombinationEqualsScalarEquationsElevenTwelveExactly) {
   EnhanceParams p;
   p.unsharp_full_snr = 0.0;  // eta at every SNR and noise level (this image is noise only)
   p.unsharp_noise_none = 0.0;
+  p.denoise_noise = 0.0;
   for (bool avx512 : {false, true}) {
   SCOPED_TRACE(enhanceBlendUseAvx512(avx512) ? "AVX-512" : "128-bit");
   Enhancer e;
@@ -180,16 +182,6 @@ TEST(Enhancer, NoisyImageIsNotSharpened) {
   const EnhanceResult clean = e.enhance(iraf_vo_test::texturedImage(), p);
   EXPECT_GT(clean.signal.snr, p.unsharp_full_snr);
   EXPECT_DOUBLE_EQ(clean.unsharp_amount, p.eta);
-}
-
-/// texturedImage() plus Gaussian noise of `sigma` grey levels (rounded, clipped to 8 bits).
-cv::Mat withNoise(const cv::Mat& img, double sigma, uint64_t seed) {
-  cv::Mat noise(img.size(), CV_32F), f, out;
-  cv::RNG rng(seed);
-  rng.fill(noise, cv::RNG::NORMAL, 0, sigma);
-  img.convertTo(f, CV_32F);
-  cv::Mat(f + noise).convertTo(out, CV_8U);
-  return out;
 }
 
 TEST(PixelNoise, MeasuresSensorNoiseNotTexture) {

@@ -12,17 +12,9 @@
 #include "iraf_vo/enhance/enhancer.h"
 
 using namespace iraf_vo;
+using iraf_vo_test::withNoise;
 
 namespace {
-
-cv::Mat withNoise(const cv::Mat& img, double sigma, uint64_t seed) {
-  cv::Mat noise(img.size(), CV_32F), f, out;
-  cv::RNG rng(seed);
-  rng.fill(noise, cv::RNG::NORMAL, 0, sigma);
-  img.convertTo(f, CV_32F);
-  cv::Mat(f + noise).convertTo(out, CV_8U);
-  return out;
-}
 
 // Random grey blocks (40-200) of side `block`: corners at every block junction.
 cv::Mat blockImage(int w, int h, int block) {
