@@ -53,6 +53,9 @@ const ParamTable<EnhanceParams>& enhanceParamTable() {
           doubleParam("unsharp_noise_none", &P::unsharp_noise_none, 0.0, 255.0,
                       "At or above this pixel noise [grey levels] the unsharp amount is 1: no sharpening of the "
                       "noise (linear from unsharp_noise_full); 0 = off"),
+          doubleParam("denoise_noise", &P::denoise_noise, 0.0, 255.0,
+                      "Above this pixel noise [grey levels] the image is first smoothed by a Gaussian that brings the "
+                      "noise down to about this level (sigma = noise / (2 sqrt(pi) denoise_noise)); 0 = off"),
           doubleParam("clahe_clip_limit", &P::clahe_clip_limit, 0.1, 40.0, "CLAHE clip limit (ORB-SLAM3 TUM-VI: 3.0)"),
           intParam("clahe_tiles", &P::clahe_tiles, 1, 32, "CLAHE tiles per side (ORB-SLAM3 TUM-VI: 8)"),
       });

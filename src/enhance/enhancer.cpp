@@ -92,6 +92,12 @@ double unsharpAmountForNoise(double noise, const EnhanceParams& cfg) {
   return cfg.eta + (1.0 - cfg.eta) * (noise - cfg.unsharp_noise_full) / span;
 }
 
+double denoiseSigma(double noise, const EnhanceParams& cfg) {
+  if (cfg.denoise_noise <= 0.0 || noise <= cfg.denoise_noise) return 0.0;
+  // A Gaussian of sigma s (>= ~0.7 px) scales white noise by 1 / (2 sqrt(pi) s).
+  return noise / (2.0 * std::sqrt(M_PI) * cfg.denoise_noise);
+}
+
 #if defined(IRAF_VO_AVX512_KERNELS)
 namespace blend_avx512 {
 int blendRow(const uint8_t* pi, const uint8_t* pb, const uint8_t* pg, float wi, float wb, float wg, int n,
@@ -195,13 +201,22 @@ EnhanceResult Enhancer::enhance(const cv::Mat& gray, const EnhanceParams& cfg) {
       clahe_->apply(gray, res.image);
       break;
     case EnhanceMethod::kIraf: {
+      const bool noise_needed = cfg.denoise_noise > 0.0 || (cfg.unsharp_noise_none > 0.0 && cfg.eta != 1.0);
+      if (noise_needed) res.pixel_noise = estimatePixelNoise(gray);
+      const cv::Mat* src = &gray;
+      if (cfg.denoise_noise > 0.0 && res.pixel_noise > cfg.denoise_noise) {
+        res.denoise_sigma = denoiseSigma(res.pixel_noise, cfg);
+        cv::GaussianBlur(gray, denoised_, cv::Size(), res.denoise_sigma, res.denoise_sigma,
+                         cv::BORDER_REFLECT_101 | cv::BORDER_ISOLATED);
+        src = &denoised_;
+      }
       // eqs. (1)-(2)
       const int k = cfg.gaussian_kernel_size;
       if (k > 1)
-        cv::GaussianBlur(gray, blurred_, cv::Size(k, k), cfg.gaussian_sigma, cfg.gaussian_sigma,
+        cv::GaussianBlur(*src, blurred_, cv::Size(k, k), cfg.gaussian_sigma, cfg.gaussian_sigma,
                          cv::BORDER_REFLECT_101 | cv::BORDER_ISOLATED);  // an ROI is its own image
       else
-        gray.copyTo(blurred_);
+        src->copyTo(blurred_);
 
       // eqs. (3)-(8): only for images classified dim or bright; a normal image keeps I_gamma = I_gauss.
       const cv::Mat* gamma_img = &blurred_;
@@ -225,7 +240,6 @@ EnhanceResult Enhancer::enhance(const cv::Mat& gray, const EnhanceParams& cfg) {
         if (res.signal.measured) res.unsharp_amount = unsharpAmount(res.signal.snr, cfg);
       }
       if (cfg.unsharp_noise_none > 0.0 && cfg.eta != 1.0) {
-        res.pixel_noise = estimatePixelNoise(gray);
         const double by_noise = unsharpAmountForNoise(res.pixel_noise, cfg);
         if (std::abs(by_noise - 1.0) < std::abs(res.unsharp_amount - 1.0)) res.unsharp_amount = by_noise;
       }
@@ -235,7 +249,7 @@ EnhanceResult Enhancer::enhance(const cv::Mat& gray, const EnhanceParams& cfg) {
       const float wg = static_cast<float>(eps);
       res.image.create(gray.size(), CV_8UC1);
       for (int r = 0; r < gray.rows; ++r)
-        blendRow(gray.ptr<uint8_t>(r), blurred_.ptr<uint8_t>(r), gamma_img->ptr<uint8_t>(r), wi, wb, wg, gray.cols,
+        blendRow(src->ptr<uint8_t>(r), blurred_.ptr<uint8_t>(r), gamma_img->ptr<uint8_t>(r), wi, wb, wg, gray.cols,
                  res.image.ptr<uint8_t>(r));
       break;
     }

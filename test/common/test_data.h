@@ -72,4 +72,14 @@ inline cv::Mat texturedImage(int w = 320, int h = 240, unsigned seed = 7) {
   return out;
 }
 
+/// An 8-bit image plus Gaussian noise of `sigma` grey levels (rounded, clipped to 8 bits), drawn from `seed`.
+inline cv::Mat withNoise(const cv::Mat& img, double sigma, uint64_t seed) {
+  cv::Mat noise(img.size(), CV_32F), f, out;
+  cv::RNG rng(seed);
+  rng.fill(noise, cv::RNG::NORMAL, 0, sigma);
+  img.convertTo(f, CV_32F);
+  cv::Mat(f + noise).convertTo(out, CV_8U);
+  return out;
+}
+
 }  // namespace iraf_vo_test

@@ -13,6 +13,7 @@
 
 using namespace iraf_vo;
 using iraf_vo_test::entropyBits;
+using iraf_vo_test::withNoise;
 
 namespace {
 
@@ -124,6 +125,7 @@ TEST(Enhancer, CombinationEqualsScalarEquationsElevenTwelveExactly) {
   EnhanceParams p;
   p.unsharp_full_snr = 0.0;  // eta at every SNR and noise level (this image is noise only)
   p.unsharp_noise_none = 0.0;
+  p.denoise_noise = 0.0;
   for (bool avx512 : {false, true}) {
   SCOPED_TRACE(enhanceBlendUseAvx512(avx512) ? "AVX-512" : "128-bit");
   Enhancer e;
@@ -149,6 +151,7 @@ TEST(Enhancer, CombinationEqualsScalarEquationsElevenTwelveExactly) {
 TEST(Enhancer, UnsharpAmountFollowsTheSnrRamp) {
   EnhanceParams p;  // eta 1.5
   p.unsharp_full_snr = 8.0;  // ramp over SNR 5..8
+  p.denoise_noise = 0.0;     // the ramp alone (the denoising: test_enhance_denoise)
   EXPECT_DOUBLE_EQ(unsharpAmount(20.0, p), p.eta);
   EXPECT_DOUBLE_EQ(unsharpAmount(8.0, p), p.eta);
   EXPECT_DOUBLE_EQ(unsharpAmount(6.5, p), 1.0 + 0.5 * (p.eta - 1.0));
@@ -168,6 +171,7 @@ TEST(Enhancer, NoisyImageIsNotSharpened) {
   cv::Mat(noisy16 + noise).convertTo(noisy, CV_8U);
   EnhanceParams p;
   p.unsharp_full_snr = 8.0;  // ramp over SNR 5..8
+  p.denoise_noise = 0.0;     // the ramp alone (the denoising: test_enhance_denoise)
   p.mu_expected = cv::mean(noisy)[0];  // normal
   Enhancer e;
   const EnhanceResult r = e.enhance(noisy, p);
@@ -179,16 +183,6 @@ TEST(Enhancer, NoisyImageIsNotSharpened) {
   const EnhanceResult clean = e.enhance(iraf_vo_test::texturedImage(), p);
   EXPECT_GT(clean.signal.snr, p.unsharp_full_snr);
   EXPECT_DOUBLE_EQ(clean.unsharp_amount, p.eta);
-}
-
-/// texturedImage() plus Gaussian noise of `sigma` grey levels (rounded, clipped to 8 bits).
-cv::Mat withNoise(const cv::Mat& img, double sigma, uint64_t seed) {
-  cv::Mat noise(img.size(), CV_32F), f, out;
-  cv::RNG rng(seed);
-  rng.fill(noise, cv::RNG::NORMAL, 0, sigma);
-  img.convertTo(f, CV_32F);
-  cv::Mat(f + noise).convertTo(out, CV_8U);
-  return out;
 }
 
 TEST(PixelNoise, MeasuresSensorNoiseNotTexture) {
@@ -243,6 +237,7 @@ TEST(Enhancer, DefaultDoesNotSharpenTheNoiseOfAHighGainCamera) {
   EnhanceParams p, paper;
   p.mu_expected = paper.mu_expected = cv::mean(noisy)[0];  // a normal image: no gamma term
   paper.unsharp_noise_none = 0.0;
+  p.denoise_noise = paper.denoise_noise = 0.0;  // the amount alone (the denoising: test_enhance_denoise)
   Enhancer e;
   const EnhanceResult r = e.enhance(noisy, p);
   EXPECT_NEAR(r.pixel_noise, 20.0, 3.0);

@@ -52,6 +52,11 @@ struct EnhanceParams {
   // between). unsharp_noise_none 0 = off. The smaller of the two amounts applies.
   double unsharp_noise_full = 6.0;
   double unsharp_noise_none = 10.0;
+  // Denoising before eqs. (1)-(12) on an image whose pixel noise exceeds denoise_noise grey levels (a camera at
+  // high gain): a Gaussian sized so that white noise of the measured level falls to about denoise_noise (sigma =
+  // noise / (2 sqrt(pi) denoise_noise): no blur at the threshold, 1.7 px at 24 grey levels). Clean images (EuRoC
+  // 1.2-2.0) are untouched. The unsharp amount still follows the input's noise (1 on such an image). 0 = off.
+  double denoise_noise = 4.0;  // docs/decisions.md
 
   // Comparison front-ends (Table I): CLAHE as ORB-SLAM3 uses it for TUM-VI.
   double clahe_clip_limit = 3.0;

@@ -31,7 +31,8 @@ struct EnhanceResult {
   double gamma_weight = 0.0;  // weight of the gamma correction actually applied (0 for a normal image; brightness_ramp)
   double unsharp_amount = 0.0;  // eq. (12) eta actually applied (iraf): eta, lowered toward 1 at a low SNR
   ImageSignal signal;           // of the input, when the unsharp amount needed it (measured = false otherwise)
-  double pixel_noise = 0.0;     // of the input [grey levels] (enhance/pixel_noise.h), when the amount needed it
+  double pixel_noise = 0.0;     // of the input [grey levels] (enhance/pixel_noise.h), when the amount or the denoising needed it
+  double denoise_sigma = 0.0;   // of the Gaussian that denoised the input before eqs. (1)-(12) (0 = none)
   double ms = 0.0;  // wall time spent in enhance()
 };
 
@@ -42,6 +43,11 @@ double unsharpAmount(double snr, const EnhanceParams& cfg);
 /// eq. (12)'s unsharp amount at an image's pixel noise [grey levels]: cfg.eta at or below cfg.unsharp_noise_full
 /// (or when cfg.unsharp_noise_none is 0), 1 at or above cfg.unsharp_noise_none, linear in between.
 double unsharpAmountForNoise(double noise, const EnhanceParams& cfg);
+
+/// Sigma [px] of the denoising Gaussian at an image's pixel noise [grey levels]: 0 (none) at or below
+/// cfg.denoise_noise (or when it is 0), else noise / (2 sqrt(pi) cfg.denoise_noise), which brings white noise
+/// of that level down to about cfg.denoise_noise.
+double denoiseSigma(double noise, const EnhanceParams& cfg);
 
 /// Lets the iraf blend (eqs. 11-12) use AVX-512 (where the CPU has AVX-512BW; the default) or 128-bit SIMD:
 /// the same bytes. For tests; returns whether AVX-512 is now in use.
@@ -69,7 +75,7 @@ class Enhancer {
   EnhanceResult enhance(const cv::Mat& gray, const EnhanceParams& cfg);
 
  private:
-  cv::Mat blurred_, gamma_;
+  cv::Mat denoised_, blurred_, gamma_;
   cv::Ptr<cv::CLAHE> clahe_;
   double clahe_clip_ = -1.0;
   int clahe_tiles_ = -1;
