@@ -12,14 +12,14 @@ void MapInitializer::setReference(const Frame& f) {
   if (have_reference_) reference_ = f;
 }
 
-std::vector<std::pair<int, int>> MapInitializer::matchToReference(const Frame& cur) const {
-  std::vector<float> reference_angles(reference_.size());
-  for (size_t i = 0; i < reference_.size(); ++i) reference_angles[i] = reference_.keypoints[i].angle;
-  const auto matches = matcher_.matchBruteForce(cur.descriptors, cur.keypoints, cur.valid, reference_.descriptors,
+std::vector<std::pair<int, int>> MapInitializer::matchToReference(const Frame& ref, const Frame& cur) const {
+  std::vector<float> reference_angles(ref.size());
+  for (size_t i = 0; i < ref.size(); ++i) reference_angles[i] = ref.keypoints[i].angle;
+  const auto matches = matcher_.matchBruteForce(cur.descriptors, cur.keypoints, cur.valid, ref.descriptors,
                                                 reference_angles, p_.match_threshold_high, p_.init_match_ratio);
   std::vector<std::pair<int, int>> valid;  // (cur, reference)
   for (const auto& m : matches)
-    if (reference_.valid[m.second]) valid.push_back(m);
+    if (ref.valid[m.second]) valid.push_back(m);
   return valid;
 }
 
@@ -28,19 +28,49 @@ bool MapInitializer::initialize(Frame& cur, const MapAnchor& anchor, Map* map, K
   last_failure_.clear();
   if (!have_reference_ || cur.index - reference_.index > p_.init_max_frames) {
     last_failure_ = have_reference_ ? "reference too old" : "no reference";
+    have_previous_ = false;
     setReference(cur);
     return false;
   }
-  const std::vector<std::pair<int, int>> matches = matchToReference(cur);
-  if (static_cast<int>(matches.size()) < p_.init_min_matches) {
+  const std::vector<std::pair<int, int>> matches = matchToReference(reference_, cur);
+  const bool enough = static_cast<int>(matches.size()) >= p_.init_min_matches;
+  if (enough && initializeFrom(reference_, matches, cur, anchor, map, kf0_out, kf1_out, num_points)) return true;
+  if (initializeFromPrevious(cur, anchor, map, kf0_out, kf1_out, num_points)) return true;
+  if (!enough) {
     last_failure_ =
         "too few matches (" + std::to_string(matches.size()) + " < " + std::to_string(p_.init_min_matches) + ")";
+    // Fast forward motion carries the matches out of the view before the parallax suffices: the replaced
+    // reference stays a second candidate while it keeps enough matches for an initial map.
+    previous_ = reference_;
+    have_previous_ = true;
     setReference(cur);
+  }
+  return false;
+}
+
+bool MapInitializer::initializeFromPrevious(Frame& cur, const MapAnchor& anchor, Map* map, KeyframePtr* kf0,
+                                            KeyframePtr* kf1, int* num_points) {
+  if (!have_previous_) return false;
+  const std::vector<std::pair<int, int>> matches = matchToReference(previous_, cur);
+  if (cur.index - previous_.index > p_.init_max_frames || static_cast<int>(matches.size()) < p_.init_min_triangulated) {
+    have_previous_ = false;
     return false;
   }
+  const std::string failure = last_failure_;  // the current reference's: the one the log reports
+  if (initializeFrom(previous_, matches, cur, anchor, map, kf0, kf1, num_points)) {
+    last_failure_.clear();
+    return true;
+  }
+  last_failure_ = failure;
+  return false;
+}
+
+bool MapInitializer::initializeFrom(const Frame& ref, const std::vector<std::pair<int, int>>& matches,
+                                    Frame& cur, const MapAnchor& anchor, Map* map, KeyframePtr* kf0_out,
+                                    KeyframePtr* kf1_out, int* num_points) {
   std::vector<Eigen::Vector3d> b_ref, b_cur;
   for (const auto& m : matches) {
-    b_ref.push_back(reference_.bearings[m.second]);
+    b_ref.push_back(ref.bearings[m.second]);
     b_cur.push_back(cur.bearings[m.first]);
   }
   TwoViewParams two_view_params;
@@ -57,7 +87,7 @@ bool MapInitializer::initialize(Frame& cur, const MapAnchor& anchor, Map* map, K
   two_view_params.ba_use_ceres = p_.ba_use_ceres;
   const TwoViewResult two_view = initializeTwoView(b_ref, b_cur, cam_.focal(), two_view_params);
   if (!two_view.ok) {
-    last_failure_ = "ref " + std::to_string(reference_.index) + " " + std::to_string(matches.size()) +
+    last_failure_ = "ref " + std::to_string(ref.index) + " " + std::to_string(matches.size()) +
                     " matches: " + two_view.reason;
     return false;
   }
@@ -75,7 +105,7 @@ bool MapInitializer::initialize(Frame& cur, const MapAnchor& anchor, Map* map, K
   T_cur_ref.translation() = s * two_view.t_21;
   const Eigen::Isometry3d T_ref_c_w = anchor.T_w_ref.inverse();
   const Eigen::Isometry3d T_cur_c_w = T_cur_ref * T_ref_c_w;
-  KeyframePtr kf0 = Keyframe::fromFrame(reference_, T_ref_c_w);
+  KeyframePtr kf0 = Keyframe::fromFrame(ref, T_ref_c_w);
   KeyframePtr kf1 = Keyframe::fromFrame(cur, T_cur_c_w);
 
   // Two-keyframe BA (first keyframe fixed) before the map goes live.
@@ -90,9 +120,9 @@ bool MapInitializer::initialize(Frame& cur, const MapAnchor& anchor, Map* map, K
     if (!two_view.triangulated[k]) continue;
     const int pi = static_cast<int>(ba_points.size());
     ba_points.push_back({anchor.T_w_ref * (s * two_view.points[k])});
-    const cv::KeyPoint& k0 = reference_.keypoints[matches[k].second];
+    const cv::KeyPoint& k0 = ref.keypoints[matches[k].second];
     const cv::KeyPoint& k1 = cur.keypoints[matches[k].first];
-    ba_observations.push_back({0, pi, Eigen::Vector2d(k0.pt.x, k0.pt.y), reference_.sigma(k0.octave)});
+    ba_observations.push_back({0, pi, Eigen::Vector2d(k0.pt.x, k0.pt.y), ref.sigma(k0.octave)});
     ba_observations.push_back({1, pi, Eigen::Vector2d(k1.pt.x, k1.pt.y), cur.sigma(k1.octave)});
     point_match.push_back(matches[k]);
   }
@@ -118,6 +148,7 @@ bool MapInitializer::initialize(Frame& cur, const MapAnchor& anchor, Map* map, K
   cur.point_id = kf1->point_id;
   *kf0_out = kf0;
   *kf1_out = kf1;
+  have_previous_ = false;
   return true;
 }
 
