@@ -8,8 +8,8 @@ OfflinePipeline::OfflinePipeline(FrameSource* source, const EnhanceParams& enhan
                                  const PipelineOptions& options)
     : source_(source),
       options_(options),
-      front_end_(enhance, features),
-      front_end_right_(enhance, features),
+      front_end_(enhance, features, options.stereo),  // stereo: the images for the sub-pixel refinement
+      front_end_right_(enhance, features, true),
       read_queue_(options.queue_capacity),
       front_queue_(options.queue_capacity) {
   reader_ = std::thread([this] { readFrames(); });
