@@ -2,18 +2,23 @@
 // of both cameras until StereoPairing (pipeline/stereo_pairing.h) decides, and hands each left frame on with its right
 // partner or alone. A left frame is never dropped: message_filters' synchronizers (ExactTime / ApproximateTime) drop
 // a frame without a partner, so the rule is StereoPairing's, fed by the two subscriptions. A wall timer resolves
-// left frames whose partner did not come within max_wait.
+// left frames whose partner did not come within max_wait. With startImages(), it also holds the two cameras' enhanced
+// images (enhanced_image_cache.h) that the stereo matcher's sub-pixel refinement needs, as iraf_vo_run --stereo has.
 #pragma once
 
 #include <ros/ros.h>
 
 #include <algorithm>
+#include <atomic>
 #include <deque>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <string>
 
+#include "enhanced_image_cache.h"
 #include "iraf_vo/Features.h"
+#include "iraf_vo/features/feature_frame.h"
 #include "iraf_vo/pipeline/stereo_pairing.h"
 
 namespace iraf_vo {
@@ -36,6 +41,31 @@ class StereoFeatureInput {
                                 [this](const ros::WallTimerEvent&) { poll(); });
   }
   std::string rightTopic() const { return sub_.getTopic(); }
+
+  /// Subscribes `image_enhanced` and `right/image_enhanced` (the enhance nodelets' outputs), keeping the newest
+  /// `capacity` images of each camera.
+  void startImages(ros::NodeHandle& nh, const ros::NodeHandle& pnh, size_t capacity) {
+    it_ = std::make_shared<image_transport::ImageTransport>(nh);
+    left_images_.start(*it_, "image_enhanced", capacity, pnh);
+    right_images_.start(*it_, "right/image_enhanced", capacity, pnh);
+  }
+  bool withImages() const { return left_images_.started(); }
+  std::string imageTopics() const { return left_images_.topic() + " and " + right_images_.topic(); }
+
+  /// A pair's enhanced images into left->image and right->image (the sub-pixel refinement). false + *error when one
+  /// is missing: the frames stay without images and the pair's matches are not refined (counted). Called from
+  /// deliver_ (under mutex_): takes only the caches' own locks.
+  bool attachImages(int64_t left_stamp_ns, int64_t right_stamp_ns, FeatureFrame* left, FeatureFrame* right,
+                    std::string* error) {
+    cv::Mat l = left_images_.take(left_stamp_ns, error);
+    cv::Mat r = l.empty() ? cv::Mat() : right_images_.take(right_stamp_ns, error);
+    if (l.empty() || r.empty()) return ++unrefined_pairs_, false;
+    left->image = l;
+    right->image = r;
+    return true;
+  }
+  /// Pairs tracked without their images (matches not sub-pixel refined).
+  long unrefinedPairs() const { return unrefined_pairs_; }
 
   void addLeft(const iraf_vo::FeaturesConstPtr& left) {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -89,6 +119,9 @@ class StereoFeatureInput {
   RightArrival on_right_;
   ros::Subscriber sub_;
   ros::WallTimer timer_;
+  std::shared_ptr<image_transport::ImageTransport> it_;
+  EnhancedImageCache left_images_, right_images_;
+  std::atomic<long> unrefined_pairs_{0};
 };
 
 }  // namespace iraf_vo

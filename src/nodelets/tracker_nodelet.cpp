@@ -3,7 +3,8 @@
 // anchor, trajectory, counters, warnings), iraf_vo::OdometryOutput (base frame, covariance, twist) and
 // run_monitor.h (missed frames, rates, status line) return. Calibration: ~camera_file or camera_info (CameraSource).
 // Stereo (~stereo): right/features paired with features by StereoFeatureInput; calibration ~camera_file +
-// ~right_camera_file (their T_BS) or camera_info + right/camera_info (R and P: stereoExtrinsicsFromCameraInfo).
+// ~right_camera_file (their T_BS) or camera_info + right/camera_info (R and P: stereoExtrinsicsFromCameraInfo);
+// ~stereo_images: image_enhanced + right/image_enhanced for the matches' sub-pixel refinement (as offline).
 // Frames (REP-103 / REP-105; docs/ros_interface.md "Frames"): world_frame (default odom) = the base frame (~base_frame; empty = the
 // camera optical frame, as before) at the start of the map; child = base_frame (or the camera frame).
 #include <diagnostic_updater/diagnostic_updater.h>
@@ -93,6 +94,8 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     pnh.param<std::string>("right_camera_file", right_camera_file, "");
     pnh.param("stereo_sync_tolerance", pairing.tolerance, pairing.tolerance);
     pnh.param("stereo_max_wait", pairing.max_wait, pairing.max_wait);
+    bool stereo_images = true;
+    pnh.param("stereo_images", stereo_images, true);
     use_rectified_ = info_opts.use_rectified;
     double input_timeout = 3.0;
     pnh.param("input_timeout", input_timeout, 3.0);
@@ -140,6 +143,7 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
                             for (const SessionMessage& m : right_watchdog_.onFrame(ros::WallTime::now().toSec()))
                               NODELET_INFO("tracker: %s", m.text.c_str());
                           });
+    if (stereo_ && stereo_images) stereo_input_.startImages(nh, pnh, static_cast<size_t>(queue_size) + 5);
     {
       std::lock_guard<std::mutex> lock(watchdog_mutex_);
       watchdog_.arm(sub_.getTopic(), ros::WallTime::now().toSec());
@@ -221,6 +225,7 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
       d.add("left-only frames", c.left_only);
       d.add("right frames dropped (unpaired)", c.dropped_right);
       d.add("right camera", stereo_input_.rightMissing() ? "missing" : "ok");
+      d.add("stereo pairs without images (not sub-pixel refined)", stereo_input_.unrefinedPairs());
     }
   }
 
@@ -310,6 +315,11 @@ class TrackerNodelet : public StageNodelet<TrackerParams, iraf_vo::TrackerConfig
     if (!warning.empty()) NODELET_WARN_ONCE("tracker: %s", warning.c_str());
     const bool right_ok = right_msg && fromMsg(*right_msg, &right, &right_err, &warning);
     if (right_msg && !right_ok) NODELET_WARN_THROTTLE(5.0, "tracker: right features: %s", right_err.c_str());
+    std::string image_err;  // the pair's images (sub-pixel refinement); without them: one warning, counted
+    if (ok && right_ok && stereo_input_.withImages() &&
+        !stereo_input_.attachImages(stamp_ns, right_msg->header.stamp.toNSec(), &frame, &right, &image_err))
+      NODELET_WARN_ONCE("tracker: stereo: %s: such pairs' stereo matches are not sub-pixel refined (depths less "
+                        "accurate; counted in /diagnostics)", image_err.c_str());
     const SessionStep step = session_->process(stamp_ns, ok ? &frame : nullptr, right_ok ? &right : nullptr, err);
     for (const SessionMessage& m : step.messages) log(m);
     if (step.time_jump) path_ = nav_msgs::Path();

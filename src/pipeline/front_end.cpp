@@ -50,8 +50,8 @@ void applyFrontEndMode(FrontEndMode mode, EnhanceParams* enhance, FeatureParams*
   features->culling = s.culling;
 }
 
-FrontEnd::FrontEnd(const EnhanceParams& enhance, const FeatureParams& features)
-    : enhance_params_(enhance), feature_params_(features) {}
+FrontEnd::FrontEnd(const EnhanceParams& enhance, const FeatureParams& features, bool keep_image)
+    : enhance_params_(enhance), feature_params_(features), keep_image_(keep_image) {}
 
 FeatureFrame FrontEnd::process(const cv::Mat& gray, double stamp, FrontEndTiming* timing) {
   auto t0 = SteadyClock::now();
@@ -63,7 +63,7 @@ FeatureFrame FrontEnd::process(const cv::Mat& gray, double stamp, FrontEndTiming
   frame.stamp = stamp;
   frame.stats.brightness = static_cast<int>(enhanced.brightness);
   frame.signal = enhanced.signal.measured ? enhanced.signal : measureImageSignal(gray);
-  frame.image = enhanced.image;  // a new buffer per call (shared, not copied)
+  if (keep_image_) frame.image = enhanced.image;  // a new buffer per call (shared, not copied)
   return frame;
 }
 

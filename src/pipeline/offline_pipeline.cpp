@@ -8,8 +8,8 @@ OfflinePipeline::OfflinePipeline(FrameSource* source, const EnhanceParams& enhan
                                  const PipelineOptions& options)
     : source_(source),
       options_(options),
-      front_end_(enhance, features),
-      front_end_right_(enhance, features),
+      front_end_(enhance, features, options.stereo),  // stereo: the images for the sub-pixel refinement
+      front_end_right_(enhance, features, true),
       read_queue_(options.queue_capacity),
       front_queue_(options.queue_capacity) {
   reader_ = std::thread([this] { readFrames(); });
@@ -65,6 +65,9 @@ void OfflinePipeline::runFrontEnd() {
         if (options_.stereo && !in.image.right.empty() && in.image.right.size() == in.image.gray.size()) {
           it.right_image = in.image.right;  // its features: rightFeatures(), when the tracker matches the frame
           it.has_right = true;
+        } else if (options_.stereo && in.image.load_right) {
+          it.load_right = in.image.load_right;  // decoded by rightFeatures(), when the tracker matches the frame
+          it.has_right = true;
         }
       } catch (const std::exception& e) {
         it.error = true;
@@ -79,8 +82,16 @@ void OfflinePipeline::runFrontEnd() {
 bool OfflinePipeline::next(FrontEndItem* item) { return front_queue_.pop(item); }
 
 FeatureFrame OfflinePipeline::rightFeatures(const FrontEndItem& item) {
+  right_error_.clear();
+  cv::Mat right = item.right_image;
+  if (right.empty() && item.load_right && !item.load_right(&right, &right_error_)) return FeatureFrame();
+  if (right.size() != cv::Size(item.frame.width, item.frame.height)) {
+    right_error_ = "right image " + std::to_string(right.cols) + "x" + std::to_string(right.rows) +
+                   " does not match the left one";
+    return FeatureFrame();
+  }
   FrontEndTiming t;
-  FeatureFrame f = front_end_right_.process(item.right_image, item.frame.stamp, &t);
+  FeatureFrame f = front_end_right_.process(right, item.frame.stamp, &t);
   ms_right_ += t.ms_enhance + t.ms_features;
   ++right_processed_;
   return f;

@@ -90,6 +90,15 @@ double processCpuSeconds() {
   return ru.ru_utime.tv_sec + ru.ru_stime.tv_sec + 1e-6 * (ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
 }
 
+/// The frame's right features for the stereo tracker; an unusable right image is named on stderr (the frame then
+/// has no stereo matches).
+iraf_vo::FeatureFrame rightFeatures(iraf_vo::OfflinePipeline* pipeline, const iraf_vo::FrontEndItem& it) {
+  iraf_vo::FeatureFrame f = pipeline->rightFeatures(it);
+  if (!pipeline->rightError().empty())
+    std::fprintf(stderr, "\niraf_vo_run: frame %ld: %s: no stereo matches\n", it.index, pipeline->rightError().c_str());
+  return f;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -111,7 +120,8 @@ int main(int argc, char** argv) {
     if (a.stereo && !asl_right.open(a.dataset, &err, "cam1"))
       return std::fprintf(stderr, "iraf_vo_run: --stereo: no right camera in %s: %s\n", a.dataset.c_str(), err.c_str()),
              1;
-    source = std::make_unique<iraf_vo::AslFrameSource>(&asl, a.stereo ? &asl_right : nullptr);
+    // The right PNGs are decoded when the tracker matches a frame (initialization, keyframes), not for every frame.
+    source = std::make_unique<iraf_vo::AslFrameSource>(&asl, a.stereo ? &asl_right : nullptr, true);
     for (const std::string& w : asl.warnings()) std::fprintf(stderr, "iraf_vo_run: %s\n", w.c_str());
     if (a.camera_path.empty()) a.camera_path = asl.sensorYamlPath();
   } else {
@@ -189,7 +199,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "\niraf_vo_run: frame %ld skipped: %s\n", it.index, it.message.c_str());
       } else {
         const iraf_vo::TrackResult r =
-            a.stereo ? tracker.track(it.frame, it.has_right, [&] { return pipeline.rightFeatures(it); })
+            a.stereo ? tracker.track(it.frame, it.has_right, [&] { return rightFeatures(&pipeline, it); })
                      : tracker.track(it.frame);
         if (a.stereo && r.right_missing != right_was_missing && r.right_missing)
           std::fprintf(stderr, "\niraf_vo_run: right image missing from frame %ld: continuing with the left camera\n",

@@ -4,7 +4,10 @@
 //   * tracks from the first frames (first odometry at frame 0 or 1: a metric map from one stereo frame);
 //   * publishes metric odometry: the distance travelled over 0.5 s segments matches the ground truth within 5 %;
 //   * keeps odometry going after the right camera stopped, with one warning on /rosout ("left camera only") and the
-//     left-only frames counted in /diagnostics.
+//     left-only frames counted in /diagnostics;
+//   * builds the same first map as iraf_vo_run --stereo on that frame: as many stereo map points (the matches are
+//     sub-pixel refined on the enhanced images, which the Features messages do not carry), every pair with its
+//     images.
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
@@ -23,6 +26,7 @@
 #include "common/child_process.h"
 #include "common/test_data.h"
 #include "common/wait_for.h"
+#include "iraf_vo/TrackingStatus.h"
 #include "iraf_vo/io/trajectory.h"
 #include "iraf_vo/ros/bag_reader.h"
 
@@ -65,8 +69,13 @@ struct Watch {
   std::vector<nav_msgs::OdometryConstPtr> odom;
   std::vector<std::string> warnings;
   std::map<std::string, std::string> tracker_diag;
-  ros::Subscriber odom_sub, log_sub, diag_sub;
+  iraf_vo::TrackingStatusConstPtr first_map;  // the status of the frame that built the first map
+  ros::Subscriber odom_sub, log_sub, diag_sub, status_sub;
   Watch() {
+    status_sub = nh.subscribe<iraf_vo::TrackingStatus>("/tracking_status", 500, [this](const auto& s) {
+      std::lock_guard<std::mutex> l(m);
+      if (s->initialized_now && !first_map) first_map = s;
+    });
     odom_sub = nh.subscribe<nav_msgs::Odometry>("/odometry", 500, [this](const nav_msgs::OdometryConstPtr& o) {
       std::lock_guard<std::mutex> l(m);
       odom.push_back(o);
@@ -145,6 +154,31 @@ TEST(Stereo, EurocBagMetricOdometryAndTheRightCameraStopping) {
   const auto it = w.tracker_diag.find("left-only frames");
   ASSERT_NE(it, w.tracker_diag.end()) << "no stereo counters in /diagnostics";
   EXPECT_GE(std::atol(it->second.c_str()), (kFrames - kRightFrames) * 9 / 10);
+  const auto unrefined = w.tracker_diag.find("stereo pairs without images (not sub-pixel refined)");
+  ASSERT_NE(unrefined, w.tracker_diag.end());
+  EXPECT_EQ(unrefined->second, "0") << "every pair was matched on its images";
+
+  // The first map against the offline runner's on the same frame (same cameras, parameters and core).
+  ASSERT_TRUE(w.first_map != nullptr) << "no tracking_status with initialized_now";
+  const long k = std::lround((w.first_map->header.stamp.toSec() - t0) / period);
+  const std::string src = IRAF_VO_SOURCE_DIR, frame_log = g_dir + "/offline_frames.csv";
+  const std::string run = std::string(IRAF_VO_BIN_DIR) + "/iraf_vo_run --quiet --stereo --dataset " + asl +
+                          " --camera " + src + "/config/euroc_cam0.yaml --right-camera " + src +
+                          "/config/euroc_cam1.yaml --config " + src + "/config/euroc.yaml --first " +
+                          std::to_string(k) + " --frames 1 --out " + g_dir + "/offline.txt --frame-log " + frame_log +
+                          " > " + g_dir + "/offline.log 2>&1";
+  ASSERT_EQ(std::system(run.c_str()), 0) << run << "\n" << readFile(g_dir + "/offline.log");
+  std::istringstream rows(readFile(frame_log));
+  std::string header, row, state, cell;
+  ASSERT_TRUE(std::getline(rows, header) && std::getline(rows, row)) << readFile(frame_log);
+  std::istringstream cells(row);
+  std::vector<std::string> c;
+  while (std::getline(cells, cell, ',')) c.push_back(cell);
+  ASSERT_GE(c.size(), 6u) << row;  // index,stamp,state,keypoints,matches,inliers: the map points of the first map
+  ASSERT_EQ(c[2], "tracking") << row;
+  std::printf("first map at frame %ld: %d stereo map points in ROS, %s offline\n", k, w.first_map->inliers,
+              c[5].c_str());
+  EXPECT_EQ(w.first_map->inliers, std::atoi(c[5].c_str())) << "the ROS stereo map differs from iraf_vo_run --stereo";
 }
 
 int main(int argc, char** argv) {

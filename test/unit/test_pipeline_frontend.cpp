@@ -67,6 +67,12 @@ TEST(FrontEnd, ImageToFeaturesEqualsTheStagesCalledByHand) {
   EXPECT_EQ(f.stats.brightness, static_cast<int>(er.brightness));
   EXPECT_GT(t.ms_enhance + t.ms_features, 0.0);
   EXPECT_THROW(fe.process(cv::Mat(), 0.0), std::invalid_argument);
+  EXPECT_TRUE(f.image.empty()) << "a monocular front-end holds no image per frame";
+  FrontEnd fe_stereo(ep, fp, true);
+  const FeatureFrame s = fe_stereo.process(img, 12.5);
+  ASSERT_EQ(s.image.size(), img.size()) << "the stereo front-end carries the enhanced image";
+  EXPECT_EQ(cv::norm(s.image, er.image, cv::NORM_INF), 0.0);
+  EXPECT_EQ(s.keypoints.size(), f.keypoints.size());
 }
 
 namespace {

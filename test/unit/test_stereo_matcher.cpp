@@ -140,7 +140,7 @@ TEST(StereoMatcher, FarPlaneDepthWithSubPixelRefinement) {
   EnhanceParams ep;
   FeatureParams fp;
   applyFrontEndMode(FrontEndMode::kIraf, &ep, &fp);
-  FrontEnd fe_l(ep, fp), fe_r(ep, fp);
+  FrontEnd fe_l(ep, fp, true), fe_r(ep, fp, true);  // with their images: the refinement
   const FeatureFrame fl = fe_l.process(il, 0.0), fr = fe_r.process(ir, 0.0);
   ASSERT_FALSE(fl.image.empty());
   TrackerParams p;

@@ -1,6 +1,7 @@
 // Stereo input of the offline runner: the ASL source pairs cam0 with the cam1 image of the same timestamp (none
 // where cam1 has no image), and `iraf_vo_run --stereo` refuses a folder without cam1, naming it, and reports a
 // stereo run (baseline, right-missing frames) on EuRoC MH_01, where a stereo map's BA scale change rejects no frame.
+// A source that defers the right images decodes only those the tracker asks for, into the same features.
 #include <gtest/gtest.h>
 
 #include <sys/stat.h>
@@ -10,6 +11,7 @@
 #include "common/run_command.h"
 #include "common/tmp_dir.h"
 #include "iraf_vo/pipeline/frame_source.h"
+#include "iraf_vo/pipeline/offline_pipeline.h"
 
 using namespace iraf_vo;
 
@@ -45,6 +47,48 @@ TEST(StereoOffline, AslSourcePairsImagesByTimestamp) {
   AslFrameSource mono(&left);
   ASSERT_TRUE(mono.read(0, &im));
   EXPECT_TRUE(im.right.empty());
+}
+
+TEST(StereoOffline, DeferredRightImagesAreDecodedOnlyWhenUsed) {
+  if (!haveCam1()) GTEST_SKIP() << "no EuRoC cam1 at " << kEuroc;
+  AslImageReader left, right;
+  std::string err;
+  ASSERT_TRUE(left.open(kEuroc, &err)) << err;
+  ASSERT_TRUE(right.open(kEuroc, &err, "cam1")) << err;
+  AslFrameSource eager(&left, &right), deferred(&left, &right, true);
+  SourceImage a, b;
+  ASSERT_TRUE(eager.read(5, &a) && deferred.read(5, &b));
+  EXPECT_TRUE(b.right.empty()) << "not decoded by read()";
+  ASSERT_TRUE(static_cast<bool>(b.load_right));
+  cv::Mat r;
+  ASSERT_TRUE(b.load_right(&r, &err)) << err;
+  EXPECT_EQ(cv::norm(r, a.right, cv::NORM_INF), 0.0);
+  ASSERT_TRUE(deferred.read(320, &b));  // cam1 stops after frame 319: nothing to load
+  EXPECT_FALSE(static_cast<bool>(b.load_right));
+
+  // Through the pipeline: the right features of the frames asked for equal the eager source's; the others are
+  // never decoded.
+  PipelineOptions o;
+  o.first = 0;
+  o.last = 4;
+  o.width = 752;
+  o.height = 480;
+  o.stereo = true;
+  EnhanceParams ep;
+  FeatureParams fp;
+  OfflinePipeline pe(&eager, ep, fp, o), pd(&deferred, ep, fp, o);
+  FrontEndItem ie, id;
+  for (int i = 0; i < 4; ++i) {
+    ASSERT_TRUE(pe.next(&ie) && pd.next(&id));
+    EXPECT_TRUE(id.has_right && id.right_image.empty());
+    if (i % 2) continue;
+    const FeatureFrame fe = pe.rightFeatures(ie), fd = pd.rightFeatures(id);
+    EXPECT_TRUE(pd.rightError().empty()) << pd.rightError();
+    ASSERT_GT(fd.keypoints.size(), 100u);
+    EXPECT_EQ(fd.keypoints.size(), fe.keypoints.size());
+    EXPECT_EQ(cv::norm(fd.descriptors, fe.descriptors, cv::NORM_HAMMING), 0.0);
+  }
+  EXPECT_EQ(pd.rightFramesProcessed(), 2);
 }
 
 TEST(StereoOffline, RunWithoutCam1NamesTheFolder) {

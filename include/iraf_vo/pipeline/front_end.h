@@ -30,7 +30,9 @@ struct FrontEndTiming {
 /// Owns an Enhancer and a FeatureExtractor (their buffers are reused): image -> FeatureFrame. One thread at a time.
 class FrontEnd {
  public:
-  FrontEnd(const EnhanceParams& enhance, const FeatureParams& features);
+  /// keep_image: each FeatureFrame carries its enhanced image (FeatureFrame::image, for the stereo matcher's sub-pixel
+  /// refinement); false: the image is released after the extraction (monocular: nothing reads it).
+  FrontEnd(const EnhanceParams& enhance, const FeatureParams& features, bool keep_image = false);
 
   /// Enhances a CV_8UC1 image and extracts its features; stats.brightness = the enhancement class.
   /// Throws std::invalid_argument for an unusable image or invalid parameters.
@@ -41,6 +43,7 @@ class FrontEnd {
   FeatureParams feature_params_;
   Enhancer enhancer_;
   FeatureExtractor extractor_;
+  bool keep_image_;
 };
 
 }  // namespace iraf_vo

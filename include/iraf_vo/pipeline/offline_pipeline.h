@@ -4,6 +4,7 @@
 #pragma once
 
 #include <atomic>
+#include <functional>
 #include <opencv2/core.hpp>
 #include <string>
 #include <thread>
@@ -28,6 +29,7 @@ struct FrontEndItem {
   long index = 0;
   FeatureFrame frame;
   cv::Mat right_image;     // stereo: the right image (its features: OfflinePipeline::rightFeatures)
+  std::function<bool(cv::Mat*, std::string*)> load_right;  // stereo, deferred: decodes right_image (SourceImage)
   bool has_right = false;  // stereo: this frame has a right image
   double ms_read = 0, ms_enhance = 0, ms_features = 0;
   bool error = false;  // unreadable image or front-end failure: skip the frame
@@ -49,8 +51,12 @@ class OfflinePipeline {
   /// Stops and joins the threads (early stop: queued frames are dropped).
   void stop();
   /// Stereo: the right image's features (the same enhance + feature parameters as the left), computed on the
-  /// caller's thread when the tracker needs them (Tracker::track with RightFeatures).
+  /// caller's thread when the tracker needs them (Tracker::track with RightFeatures); a deferred right image is
+  /// decoded here. An unusable right image (unreadable, another size): empty features (no stereo matches for the
+  /// frame) and rightError() says why.
   FeatureFrame rightFeatures(const FrontEndItem& item);
+  /// Why the last rightFeatures() call had no right image ("" when it had one).
+  const std::string& rightError() const { return right_error_; }
   long rightFramesProcessed() const { return right_processed_; }
   double rightFrontEndMs() const { return ms_right_; }  // summed over those frames
 
@@ -70,6 +76,7 @@ class OfflinePipeline {
   FrontEnd front_end_right_;  // stereo: its own buffers, the same parameters; the caller's thread only
   long right_processed_ = 0;
   double ms_right_ = 0.0;
+  std::string right_error_;
   BoundedQueue<ReadItem> read_queue_;
   BoundedQueue<FrontEndItem> front_queue_;
   std::atomic<bool> stop_{false};
