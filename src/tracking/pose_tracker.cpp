@@ -11,21 +11,36 @@
 
 namespace iraf_vo {
 
-PoseTrackingResult PoseTracker::trackLocalMap(Frame& cur, const Eigen::Isometry3d& T_predicted, Map* map) const {
+PoseTrackingResult PoseTracker::trackLocalMap(Frame& cur, const Eigen::Isometry3d& T_predicted, Map* map,
+                                              bool prediction_unknown) const {
   PoseTrackingResult res;
   auto t0 = SteadyClock::now();
   const std::vector<LocalPoint> local = map->localPoints(p_.predict_scale ? &cam_ : nullptr);
   MatchSet matches(cur.size(), local.size());
   std::vector<char> visible(local.size(), 0);
   Eigen::Isometry3d T = T_predicted;
-  int n = matcher_.searchByProjection(cur, T, local, p_.search_radius_px, 1, &matches, nullptr);
-  if (n < p_.min_search_matches) {
-    matches.clear();
-    n = matcher_.searchByProjection(cur, T, local, p_.search_radius_wide_px, 2, &matches, nullptr);
+  int n = 0;
+  if (prediction_unknown) {
+    // No motion model: a projection search around T_predicted finds only the far points when the camera moved
+    // fast, and a pose from them alone comes out short. Brute force + PnP first; the projection search if it fails.
+    n = relocalize(cur, local, &matches, &T);
+    res.used_pnp = n >= p_.min_tracking_inliers;
+    if (!res.used_pnp) {
+      matches.clear();
+      T = T_predicted;
+      n = 0;
+    }
+  }
+  if (!res.used_pnp) {
+    n = matcher_.searchByProjection(cur, T, local, p_.search_radius_px, 1, &matches, nullptr);
+    if (n < p_.min_search_matches) {
+      matches.clear();
+      n = matcher_.searchByProjection(cur, T, local, p_.search_radius_wide_px, 2, &matches, nullptr);
+    }
   }
   res.ms_match += msSince(t0);
   int inliers = 0;
-  if (n >= p_.min_search_matches) {
+  if (res.used_pnp || n >= p_.min_search_matches) {
     t0 = SteadyClock::now();
     inliers = refinePose(cur, local, &matches, &T);
     res.ms_pose += msSince(t0);

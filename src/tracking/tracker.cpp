@@ -139,7 +139,8 @@ bool Tracker::Impl::relocalizeAfterDarkness(Frame& cur, TrackResult* res) {
 
 bool Tracker::Impl::trackFrom(Frame& cur, const Eigen::Isometry3d& T_last, const Eigen::Isometry3d& T_predicted,
                               TrackResult* res) {
-  const PoseTrackingResult r = pose_tracker.trackLocalMap(cur, T_predicted, &map);
+  // A metric (stereo) map without a motion model: the first frame after the stereo start or after a loss.
+  const PoseTrackingResult r = pose_tracker.trackLocalMap(cur, T_predicted, &map, metric_map && !have_velocity);
   res->matches = r.matches;
   res->inliers = r.inliers;
   res->used_pnp = r.used_pnp;

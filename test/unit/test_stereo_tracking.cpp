@@ -164,3 +164,28 @@ TEST(StereoTracking, RigIsChecked) {
   EXPECT_FALSE(r.stereo);
   EXPECT_FALSE(r.right_missing);
 }
+
+// Fast forward motion right after the stereo start (a car at 10 Hz): the first tracked frame has no motion model.
+// Its pose must come from the map (brute force + PnP), not from a projection search around the start pose, which
+// finds only the far points there and puts the camera short of where it went.
+TEST(StereoTracking, FastFirstStepAfterTheStereoStart) {
+  const auto cam = std::make_shared<TestPinhole>(752, 480, 458.0, 376.0, 240.0);
+  StereoRig rig;
+  rig.left = rig.right = cam;
+  rig.T_r_l = makePose(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(-0.11, 0, 0));
+  TrackerParams p;
+  p.mapping_thread = false;
+  Tracker tracker(rig, p);
+  SyntheticWorld world;
+  world.addBox(800, Eigen::Vector3d(-6, -4, 2.5), Eigen::Vector3d(6, 4, 6));    // near: the metric points
+  world.addBox(800, Eigen::Vector3d(-1500, -600, 1000), Eigen::Vector3d(1500, 600, 3000));  // far: no flow
+  const double step = 0.8;                                                      // metres per frame, forward
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Isometry3d T_w_l = makePose(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0, 0, step * i));
+    const FeatureFrame left = world.render(*cam, T_w_l, 0.1 * i, 0.3, 4);
+    const FeatureFrame right = world.render(*cam, T_w_l * rig.T_r_l.inverse(), 0.1 * i, 0.3, 4);
+    const TrackResult r = tracker.track(left, &right);
+    ASSERT_EQ(r.state, TrackingState::kTracking) << "frame " << i;
+    EXPECT_LT((r.T_w_c.translation() - T_w_l.translation()).norm(), 0.05 * step) << "frame " << i;
+  }
+}

@@ -39,8 +39,10 @@ class PoseTracker {
   void setStereo(const StereoRig* rig) { rig_ = rig && rig->right ? rig : nullptr; }
 
   /// Tracks `cur` against the map starting from T_predicted. On success sets cur.T_c_w and cur.point_id and
-  /// counts the map points' visibility.
-  PoseTrackingResult trackLocalMap(Frame& cur, const Eigen::Isometry3d& T_predicted, Map* map) const;
+  /// counts the map points' visibility. prediction_unknown (no motion model, e.g. the frame after a stereo start):
+  /// brute force + PnP against the local map first, the projection search around T_predicted only if that fails.
+  PoseTrackingResult trackLocalMap(Frame& cur, const Eigen::Isometry3d& T_predicted, Map* map,
+                                   bool prediction_unknown = false) const;
   /// Stereo: refines the tracked cur.T_c_w again with the right residuals of cur.right_obs (matched after the
   /// tracking, e.g. for a new keyframe); the keypoints whose point fails the chi2 test lose it (cur.point_id).
   /// Returns the right residuals in use, or -1 (cur unchanged) without right observations or with fewer than
