@@ -4,8 +4,9 @@
 // if still too few inliers: relocalization (brute force against the map points + PnP RANSAC) -> pose-only
 // refinement (Huber, chi2 5.991 outlier rejection) -> a second, narrow projection search
 // (search_radius_refine_px) with the refined pose -> refinement again. Tracked iff inliers >=
-// min_tracking_inliers. Stereo (setStereo): the refinements add a right-image residual for each matched keypoint
-// with a left-right match (Frame::right_obs). ROS-free.
+// min_tracking_inliers. Without a motion model on a metric map the brute force + PnP comes first. Stereo
+// (setStereo): the refinements add a right-image residual for each matched keypoint with a left-right match
+// (Frame::right_obs). ROS-free.
 #pragma once
 
 #include "iraf_vo/camera/camera_model.h"
