@@ -204,8 +204,8 @@ EnhanceResult Enhancer::enhance(const cv::Mat& gray, const EnhanceParams& cfg) {
       const bool noise_needed = cfg.denoise_noise > 0.0 || (cfg.unsharp_noise_none > 0.0 && cfg.eta != 1.0);
       if (noise_needed) res.pixel_noise = estimatePixelNoise(gray);
       const cv::Mat* src = &gray;
-      if (cfg.denoise_noise > 0.0 && res.pixel_noise > cfg.denoise_noise) {
-        res.denoise_sigma = denoiseSigma(res.pixel_noise, cfg);
+      res.denoise_sigma = denoiseSigma(res.pixel_noise, cfg);
+      if (res.denoise_sigma > 0.0) {
         cv::GaussianBlur(gray, denoised_, cv::Size(), res.denoise_sigma, res.denoise_sigma,
                          cv::BORDER_REFLECT_101 | cv::BORDER_ISOLATED);
         src = &denoised_;

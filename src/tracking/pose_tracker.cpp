@@ -23,13 +23,8 @@ PoseTrackingResult PoseTracker::trackLocalMap(Frame& cur, const Eigen::Isometry3
   if (prediction_unknown) {
     // No motion model: a projection search around T_predicted finds only the far points when the camera moved
     // fast, and a pose from them alone comes out short. Brute force + PnP first; the projection search if it fails.
-    n = relocalize(cur, local, &matches, &T);
-    res.used_pnp = n >= p_.min_tracking_inliers;
-    if (!res.used_pnp) {
-      matches.clear();
-      T = T_predicted;
-      n = 0;
-    }
+    n = relocalize(cur, local, &matches, &T);  // 0, matches and T untouched, when it fails
+    res.used_pnp = n > 0;
   }
   if (!res.used_pnp) {
     n = matcher_.searchByProjection(cur, T, local, p_.search_radius_px, 1, &matches, nullptr);
