@@ -207,6 +207,35 @@ int Map::trackedPoints(long kf_id, size_t min_observations) const {
   return n;
 }
 
+int Map::pointsNearerThan(const std::vector<long>& ids, const Eigen::Isometry3d& T_c_w, double max_depth) const {
+  std::lock_guard<std::mutex> lk(mutex_);
+  int n = 0;
+  for (long pid : ids) {
+    if (pid < 0) continue;
+    auto pt = points_.find(pid);
+    if (pt == points_.end()) continue;
+    const double z = (T_c_w * pt->second->p_w).z();
+    if (z > 0 && z < max_depth) ++n;
+  }
+  return n;
+}
+
+int Map::trackedPointsNearerThan(long kf_id, size_t min_observations, double max_depth) const {
+  std::lock_guard<std::mutex> lk(mutex_);
+  auto it = keyframes_.find(kf_id);
+  if (it == keyframes_.end()) return 0;
+  const Keyframe& kf = *it->second;
+  int n = 0;
+  for (long pid : kf.point_id) {
+    if (pid < 0) continue;
+    auto pt = points_.find(pid);
+    if (pt == points_.end() || pt->second->observations() < min_observations) continue;
+    const double z = (kf.T_c_w * pt->second->p_w).z();
+    if (z > 0 && z < max_depth) ++n;
+  }
+  return n;
+}
+
 // ---------------------------------------------------------------------------------------------
 // Local mapping
 // ---------------------------------------------------------------------------------------------

@@ -81,6 +81,47 @@ TEST(KeyframePolicy, Conditions) {
   EXPECT_FALSE(needNewKeyframe(c, p)) << "never before min_frames_between_keyframes";
 }
 
+TEST(KeyframePolicy, CloseRuleSkipsTheMappingWait) {
+  TrackerParams p;  // keyframe_close_ratio 0.5, mapping busy 3 frames
+  KeyframeCandidate c;
+  c.reference_tracked = 200;
+  c.inliers = 150;  // < 0.9 * 200
+  c.frames_since_keyframe = 1;
+  c.reference_close = 40;
+  c.close_tracked = 30;
+  EXPECT_FALSE(needNewKeyframe(c, p)) << "close points still tracked: wait for mapping";
+  c.close_tracked = 19;  // < 0.5 * 40: the near map runs out
+  EXPECT_TRUE(needNewKeyframe(c, p)) << "close points running out: no mapping wait";
+  c.inliers = 195;
+  EXPECT_FALSE(needNewKeyframe(c, p)) << "the rule only skips the wait of (b), it adds no keyframe";
+  c.inliers = 150;
+  c.reference_close = kMinClosePoints - 1;
+  c.close_tracked = 0;
+  EXPECT_FALSE(needNewKeyframe(c, p)) << "too few close points in the reference: rule off";
+}
+
+// The close-point counts of the keyframe rule: points at depths 2, 3, ..., 11 in front of both keyframes.
+TEST(MapTest, PointsNearerThanCountTheCloseOnes) {
+  const int n = 10;
+  Map map;
+  Frame f0 = gridFrame(0, n, 0.0), f1 = gridFrame(1, n, 0.1);
+  auto kf0 = Keyframe::fromFrame(f0, f0.T_c_w), kf1 = Keyframe::fromFrame(f1, f1.T_c_w);
+  std::vector<NewMapPoint> pts;
+  for (int i = 0; i < n; ++i) pts.push_back({Eigen::Vector3d(0, 0, 2.0 + i), 0, i, 0, i});
+  int created = 0;
+  ASSERT_TRUE(map.createInitialMap(kf0, kf1, pts, n, &created));
+  EXPECT_EQ(map.trackedPointsNearerThan(kf1->id, 2, 5.0), 3) << "depths 2, 3, 4";
+  EXPECT_EQ(map.trackedPointsNearerThan(kf1->id, 3, 5.0), 0) << "each point has two observations";
+  Eigen::Isometry3d T_c_w = Eigen::Isometry3d::Identity();
+  T_c_w.translation() = Eigen::Vector3d(0, 0, -1.0);  // 1 m further forward
+  std::vector<long> ids = kf1->point_id;
+  EXPECT_EQ(map.pointsNearerThan(ids, T_c_w, 5.0), 4) << "depths 1, 2, 3, 4 from there";
+  ids[0] = -1;
+  EXPECT_EQ(map.pointsNearerThan(ids, T_c_w, 5.0), 3) << "untracked keypoints do not count";
+  T_c_w.translation() = Eigen::Vector3d(0, 0, -3.0);
+  EXPECT_EQ(map.pointsNearerThan(kf1->point_id, T_c_w, 5.0), 4) << "depths 1-4; not the points behind the camera";
+}
+
 TEST(LocalBA, GaugeFixesOldestUntilTwoFixedAndSpanHolds) {
   // Window of 4 keyframes on a line (centres 0, 1, 2, 3; newest first), no keyframe outside.
   std::vector<BAKeyframe> kfs(4);

@@ -56,6 +56,11 @@ struct TrackerParams {
   int keyframe_min_tracked = 80;
   int min_frames_between_keyframes = 0;
   int max_frames_between_keyframes = 20;
+  double keyframe_close_steps = 35.0;   // monocular: a point is close when nearer than this many frame steps (the
+                                        // camera's motion over the last frame; ORB-SLAM stereo: 35 baselines);
+                                        // 0 = off
+  double keyframe_close_ratio = 0.5;    // mapping counts as idle while the frame tracks fewer than this share of
+                                        // the reference keyframe's close points (a thin near map running out)
   // ---- local mapping ----
   bool mapping_thread = true;           // the mapping mode (local_mapper.h): BA on the mapping thread, written back
                                         // at the next keyframe; false: BA inside track(). Both deterministic.
