@@ -55,16 +55,22 @@ class StereoMatcher {
                   const cv::Mat& left_image = cv::Mat()) const;
 
   double maxDepth() const { return max_depth_; }
+  /// Points farther than this (less disparity than stereo_min_disparity_px) are kept only to fill a frame up to
+  /// stereo_init_min_points, nearest first.
+  double closeDepth() const { return close_depth_; }
 
  private:
   /// Left keypoint i's right pixel and bearing refined along the epipolar curve (step: the finer octave's pixel).
   bool refineRight(const Frame& left, size_t i, int right_octave, const cv::Mat& left_image, const cv::Mat& right_image,
                    Eigen::Vector2d* uv_r, Eigen::Vector3d* b_r) const;
+  /// Drops the far matches (depth > close_depth_) but the nearest ones a first map needs; the order is kept.
+  void keepClosePoints(std::vector<StereoMatch>* matches) const;
   const StereoRig& rig_;
   const TrackerParams& p_;
   Eigen::Matrix3d E_;  // b_r^T E b_l = 0
   Eigen::Vector3d c_r_in_l_;  // right camera centre in the left frame
   double max_depth_;
+  double close_depth_;
 };
 
 /// The matches as map points in the world (left.T_c_w), for the left keypoints without a map point
