@@ -23,8 +23,19 @@ PoseTrackingResult PoseTracker::trackLocalMap(Frame& cur, const Eigen::Isometry3
   if (prediction_unknown) {
     // No motion model: a projection search around T_predicted finds only the far points when the camera moved
     // fast, and a pose from them alone comes out short. Brute force + PnP first; the projection search if it fails.
-    n = relocalize(cur, local, &matches, &T);  // 0, matches and T untouched, when it fails
-    res.used_pnp = n > 0;
+    // A PnP with fewer inliers than tracking needs (a wide fisheye: the RANSAC's threshold on the normalized plane
+    // drops the peripheral matches) still predicts the step: the search starts there when it finds more there.
+    Eigen::Isometry3d T_pnp = T;
+    MatchSet pnp_matches(cur.size(), local.size());
+    const int n_pnp = relocalize(cur, local, &pnp_matches, &T_pnp, kMinPnPPrediction);
+    if (n_pnp >= p_.min_tracking_inliers) {
+      matches = pnp_matches;
+      T = T_pnp;
+      n = n_pnp;
+      res.used_pnp = true;
+    } else if (n_pnp > 0 && searchesMore(cur, local, T_pnp, T)) {
+      T = T_pnp;
+    }
   }
   if (!res.used_pnp) {
     n = matcher_.searchByProjection(cur, T, local, p_.search_radius_px, 1, &matches, nullptr);
@@ -162,8 +173,16 @@ int PoseTracker::refinePose(const Frame& f, const std::vector<LocalPoint>& local
   return n;
 }
 
+bool PoseTracker::searchesMore(const Frame& f, const std::vector<LocalPoint>& local, const Eigen::Isometry3d& T_a,
+                               const Eigen::Isometry3d& T_b) const {
+  MatchSet a(f.size(), local.size()), b(f.size(), local.size());
+  return matcher_.searchByProjection(f, T_a, local, p_.search_radius_px, 1, &a, nullptr) >
+         matcher_.searchByProjection(f, T_b, local, p_.search_radius_px, 1, &b, nullptr);
+}
+
 int PoseTracker::relocalize(const Frame& f, const std::vector<LocalPoint>& local, MatchSet* matches,
-                            Eigen::Isometry3d* T) const {
+                            Eigen::Isometry3d* T, int min_inliers) const {
+  if (min_inliers <= 0) min_inliers = p_.min_tracking_inliers;
   if (local.size() < 10) return 0;
   cv::Mat D(static_cast<int>(local.size()), 32, CV_8U);
   std::vector<float> angles(local.size());
@@ -173,7 +192,7 @@ int PoseTracker::relocalize(const Frame& f, const std::vector<LocalPoint>& local
   }
   const auto m = matcher_.matchBruteForce(f.descriptors, f.keypoints, f.valid, D, angles, p_.match_threshold_high,
                                           p_.match_ratio);
-  if (static_cast<int>(m.size()) < p_.min_tracking_inliers) return 0;
+  if (static_cast<int>(m.size()) < min_inliers) return 0;
   std::vector<Eigen::Vector3d> P, B;
   for (const auto& x : m) {
     P.push_back(local[x.second].p_w);
@@ -182,7 +201,7 @@ int PoseTracker::relocalize(const Frame& f, const std::vector<LocalPoint>& local
   std::vector<char> inlier;
   Eigen::Isometry3d T_pnp;
   const int n = solvePnPBearings(P, B, cam_.focal(), p_.pnp_threshold_px, p_.pnp_iterations, &T_pnp, &inlier);
-  if (n < p_.min_tracking_inliers) return 0;
+  if (n < min_inliers) return 0;
   matches->clear();
   for (size_t k = 0; k < m.size(); ++k)
     if (inlier[k]) matches->link(m[k].first, m[k].second);

@@ -4,6 +4,7 @@
 #include "iraf_vo/tracking/multiview.h"
 #include "iraf_vo/tracking/stereo_refinement.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
@@ -11,7 +12,10 @@
 namespace iraf_vo {
 
 StereoMatcher::StereoMatcher(const StereoRig& rig, const TrackerParams& params)
-    : rig_(rig), p_(params), max_depth_(params.stereo_max_depth_baselines * rig.baseline()) {
+    : rig_(rig), p_(params), max_depth_(params.stereo_max_depth_baselines * rig.baseline()),
+      close_depth_(max_depth_) {
+  if (params.stereo_min_disparity_px > 0 && rig.left)
+    close_depth_ = std::min(max_depth_, rig.left->focal() * rig.baseline() / params.stereo_min_disparity_px);
   E_ = skew(rig.T_r_l.translation()) * rig.T_r_l.linear();
   c_r_in_l_ = rig.T_r_l.inverse().translation();
 }
@@ -107,7 +111,20 @@ std::vector<StereoMatch> StereoMatcher::match(const Frame& left, const Frame& ri
     m.uv_r = uv_r;
     out.push_back(m);
   }
+  keepClosePoints(&out);
   return out;
+}
+
+void StereoMatcher::keepClosePoints(std::vector<StereoMatch>* matches) const {
+  auto far = std::stable_partition(matches->begin(), matches->end(),
+                                   [this](const StereoMatch& m) { return m.depth() <= close_depth_; });
+  const long missing = p_.stereo_init_min_points - (far - matches->begin());
+  if (missing > 0) {  // too few close points for a first map: the nearest far ones too (ORB-SLAM's keyframe rule)
+    std::stable_sort(far, matches->end(),
+                     [](const StereoMatch& a, const StereoMatch& b) { return a.depth() < b.depth(); });
+    far += std::min<long>(missing, matches->end() - far);
+  }
+  matches->erase(far, matches->end());
 }
 
 bool StereoMatcher::refineRight(const Frame& left, size_t i, int right_octave, const cv::Mat& left_image,

@@ -109,6 +109,8 @@ const ParamTable<TrackerParams>& trackerParamTable() {
                       "Stereo: points from one stereo frame closer than this are dropped [m]"),
           doubleParam("stereo_max_depth_baselines", &P::stereo_max_depth_baselines, 1.0, 10000.0,
                       "Stereo: ... and farther than this many baselines (1000: ~0.5 px of disparity)"),
+          doubleParam("stereo_min_disparity_px", &P::stereo_min_disparity_px, 0.0, 100.0,
+                      "Stereo: ... and with less disparity than this (focal x baseline / depth; 0 = off) [px]"),
           intParam("stereo_init_min_points", &P::stereo_init_min_points, 8, 10000,
                    "Stereo: points the first (metric) map needs from one frame"),
           boolParam("stereo_match_every_frame", &P::stereo_match_every_frame,

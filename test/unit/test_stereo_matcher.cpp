@@ -144,6 +144,7 @@ TEST(StereoMatcher, FarPlaneDepthWithSubPixelRefinement) {
   const FeatureFrame fl = fe_l.process(il, 0.0), fr = fe_r.process(ir, 0.0);
   ASSERT_FALSE(fl.image.empty());
   TrackerParams p;
+  p.stereo_min_disparity_px = 0.0;  // 1 px of disparity at 50 m: the refinement's precision, not the floor
   Frame left, right;
   ASSERT_NO_FATAL_FAILURE(toFrames(fl, fr, *cam, &left, &right));
   const StereoMatcher matcher(rig, p);
@@ -170,6 +171,36 @@ TEST(StereoMatcher, FarPlaneDepthWithSubPixelRefinement) {
     Eigen::Vector2d uv;
     ASSERT_TRUE(cam->project(rig.T_r_l * m.p_l, &uv));
     EXPECT_LT((uv - m.uv_r).norm(), 0.5);
+  }
+}
+
+// Far points (disparity below stereo_min_disparity_px) get no depth from one stereo frame: near the floor, only
+// the matches whose disparity error was positive survive the depth range, so their depths come out short.
+TEST(StereoMatcher, NoDepthBelowTheDisparityFloor) {
+  for (const CameraModelPtr cam : {CameraModelPtr(std::make_shared<TestPinhole>(640, 480, 450.0, 320.0, 240.0)),
+                                   CameraModelPtr(std::make_shared<TestFisheye>(512, 512, 190.0, 256.0, 256.0))}) {
+    const StereoRig rig = syntheticRig(cam);
+    SyntheticWorld world;
+    const double floor_depth = cam->focal() * rig.baseline() / 2.0;  // 2 px (default floor): 27 m / 11.4 m
+    world.addBox(300, Eigen::Vector3d(-3, -2, 2.0), Eigen::Vector3d(3, 2, 0.5 * floor_depth));
+    world.addBox(300, Eigen::Vector3d(-20, -10, 2.0 * floor_depth), Eigen::Vector3d(20, 10, 4.0 * floor_depth));
+    const FeatureFrame fl = world.render(*cam, Eigen::Isometry3d::Identity(), 0.0, 0.3, 4);
+    const FeatureFrame fr = world.render(*cam, rig.T_r_l.inverse(), 0.0, 0.3, 4);
+    Frame left, right;
+    ASSERT_NO_FATAL_FAILURE(toFrames(fl, fr, *cam, &left, &right));
+    TrackerParams p;
+    const StereoMatcher matcher(rig, p);
+    EXPECT_NEAR(matcher.closeDepth(), floor_depth, 1e-9) << cam->modelName();
+    int near = 0;
+    for (const StereoMatch& m : matcher.match(left, right)) {
+      EXPECT_LE(m.depth(), floor_depth) << cam->modelName();
+      near += m.depth() < 0.5 * floor_depth + 1.0;
+    }
+    EXPECT_GT(near, 150) << cam->modelName();
+    p.stereo_min_disparity_px = 0.0;  // off: the far box is matched too
+    int far = 0;
+    for (const StereoMatch& m : StereoMatcher(rig, p).match(left, right)) far += m.depth() > floor_depth;
+    EXPECT_GT(far, 50) << cam->modelName();
   }
 }
 

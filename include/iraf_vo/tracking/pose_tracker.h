@@ -58,8 +58,17 @@ class PoseTracker {
   /// Median chi2 and information matrix of the final inliers.
   void describeInliers(const Frame& f, const std::vector<LocalPoint>& local, const MatchSet& matches,
                        const Eigen::Isometry3d& T, PoseTrackingResult* res) const;
-  /// Brute force against all local points + PnP RANSAC; replaces *matches by the PnP inliers. Returns inliers.
-  int relocalize(const Frame& f, const std::vector<LocalPoint>& local, MatchSet* matches, Eigen::Isometry3d* T) const;
+  /// Brute force against all local points + PnP RANSAC; replaces *matches by the PnP inliers. Returns inliers, or
+  /// 0 (matches and T untouched) below min_inliers (<= 0: min_tracking_inliers).
+  int relocalize(const Frame& f, const std::vector<LocalPoint>& local, MatchSet* matches, Eigen::Isometry3d* T,
+                 int min_inliers = 0) const;
+  /// Whether the projection search finds more matches around T_a than around T_b.
+  bool searchesMore(const Frame& f, const std::vector<LocalPoint>& local, const Eigen::Isometry3d& T_a,
+                    const Eigen::Isometry3d& T_b) const;
+
+  /// A PnP with this many inliers predicts the first step after a stereo start (ORB-SLAM's relocalization
+  /// optimizes from 10 PnP inliers).
+  static constexpr int kMinPnPPrediction = 10;
 
   const CameraModel& cam_;
   const TrackerParams& p_;

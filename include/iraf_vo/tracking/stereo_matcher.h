@@ -17,6 +17,12 @@
 // 3-65 m) gave a 1.063 scale at 200 baselines with raw disparities. A cap at 40 baselines (ORB-SLAM's "close
 // point" ThDepth; 4.4 m at EuRoC) kept half of the EuRoC MH_01 points out of the first map: frames 0-305 then gave
 // 61 mm SE(3) ATE and a 0.97 scale instead of 4.5 mm and 1.006.
+//
+// Close / far (ORB-SLAM's rule, as a disparity): a match with less than stereo_min_disparity_px of disparity
+// (focal x baseline / depth; 2 px) gives no depth from one stereo frame, unless the frame has fewer close matches
+// than a first map needs (stereo_init_min_points): then the nearest far ones fill it up. Far points enter the map
+// from the triangulation between keyframes. Below ~2 px the kept matches' depths are biased short (the cap
+// selects positive disparity errors): simulated highway, pinhole, 80-150 m -37 %, fisheye beyond 150 m -90 %.
 #pragma once
 
 #include "iraf_vo/camera/stereo_rig.h"
@@ -55,16 +61,22 @@ class StereoMatcher {
                   const cv::Mat& left_image = cv::Mat()) const;
 
   double maxDepth() const { return max_depth_; }
+  /// Points farther than this (less disparity than stereo_min_disparity_px) are kept only to fill a frame up to
+  /// stereo_init_min_points, nearest first.
+  double closeDepth() const { return close_depth_; }
 
  private:
   /// Left keypoint i's right pixel and bearing refined along the epipolar curve (step: the finer octave's pixel).
   bool refineRight(const Frame& left, size_t i, int right_octave, const cv::Mat& left_image, const cv::Mat& right_image,
                    Eigen::Vector2d* uv_r, Eigen::Vector3d* b_r) const;
+  /// Drops the far matches (depth > close_depth_) but the nearest ones a first map needs; the order is kept.
+  void keepClosePoints(std::vector<StereoMatch>* matches) const;
   const StereoRig& rig_;
   const TrackerParams& p_;
   Eigen::Matrix3d E_;  // b_r^T E b_l = 0
   Eigen::Vector3d c_r_in_l_;  // right camera centre in the left frame
   double max_depth_;
+  double close_depth_;
 };
 
 /// The matches as map points in the world (left.T_c_w), for the left keypoints without a map point

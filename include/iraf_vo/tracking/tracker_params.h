@@ -83,6 +83,7 @@ struct TrackerParams {
                                             // (x the keypoint's sigma) [px]
   double stereo_min_depth = 0.1;            // stereo points closer than this are dropped [m]
   double stereo_max_depth_baselines = 1000.0;  // ... and farther than this many baselines (stereo_matcher.h)
+  double stereo_min_disparity_px = 2.0;      // ... and with less disparity than this (stereo_matcher.h)
   int stereo_init_min_points = 100;         // stereo points the first (metric) map needs from one frame
   bool stereo_match_every_frame = false;    // true: left-right matching (and the right front-end) on every frame,
                                             // right residuals in every pose refinement; false: on the
