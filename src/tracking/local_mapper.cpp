@@ -120,6 +120,15 @@ void LocalMapper::commitPendingBA() {
   recordScaleChange(done->extent_before, done->problem);
 }
 
+// A corner found at octave o from distance d is found at octave 0 from d * sigma(o): a true match has
+// d1 * sigma1 ~= d2 * sigma2, i.e. d2 / d1 ~= sigma1 / sigma2; a wrong epipolar match triangulated at the wrong
+// depth need not. Tolerance: a factor 1.5 x scale_factor either way.
+bool scaleConsistent(double d1, double d2, double octave_ratio, double scale_factor) {
+  if (!(d1 > 0.0) || !(d2 > 0.0)) return false;
+  const double distance_ratio = d2 / d1, tolerance = 1.5 * scale_factor;
+  return distance_ratio * tolerance >= octave_ratio && distance_ratio <= octave_ratio * tolerance;
+}
+
 void LocalMapper::createNewMapPoints(long kf_id) {
   TriangulationInput in;
   if (!map_->claimForTriangulation(kf_id, p_.num_triangulation_neighbors, &in)) return;
@@ -145,6 +154,7 @@ void LocalMapper::createNewMapPoints(long kf_id) {
       const cv::KeyPoint& kp1 = kf.keypoints[i];
       const cv::KeyPoint& kp2 = kf2.keypoints[j];
       const double s1 = kf.sigma(kp1.octave), s2 = kf2.sigma(kp2.octave);
+      if (!scaleConsistent((X - c1).norm(), (X - c2).norm(), s1 / s2, kf.scale_factor)) continue;
       const double e1 = reprojectionError2(cam_, T1, X, Eigen::Vector2d(kp1.pt.x, kp1.pt.y));
       const double e2 = reprojectionError2(cam_, nb.T_c_w, X, Eigen::Vector2d(kp2.pt.x, kp2.pt.y));
       if (e1 < 0 || e2 < 0 || e1 > kChi2TwoDof * s1 * s1 || e2 > kChi2TwoDof * s2 * s2) continue;

@@ -1,6 +1,7 @@
 // Two-view initialization, PnP, pose refinement and sliding-window BA on synthetic data, with a pinhole and an
 // equidistant fisheye model.
 #include "iraf_vo/tracking/bundle_adjustment.h"
+#include "iraf_vo/tracking/local_mapper.h"
 #include "iraf_vo/tracking/multiview.h"
 #include "iraf_vo/tracking/pose_optimization.h"
 #include "iraf_vo/tracking/two_view.h"
@@ -394,4 +395,23 @@ TEST(TrackingGeometry, PoseRefinementDropsAPointThatLeavesTheView) {
     EXPECT_LT((T.translation() - T_c_w.translation()).norm(), 0.01);
     EXPECT_FALSE(inl.back());
   }
+}
+
+// A new point's match is kept only when its distances from the two keyframes agree with the keypoints' octaves:
+// a corner found at octave o from distance d is found at octave 0 from d * sigma(o).
+TEST(TrackingGeometry, NewPointScaleConsistency) {
+  const double sf = 1.2;
+  const auto ratio = [sf](int o1, int o2) { return std::pow(sf, o1) / std::pow(sf, o2); };
+  // True matches: same octave from about the same distance; two octaves apart from 1.44x the distance.
+  EXPECT_TRUE(scaleConsistent(300.0, 295.0, ratio(0, 0), sf));
+  EXPECT_TRUE(scaleConsistent(10.0, 14.4, ratio(2, 0), sf));
+  EXPECT_TRUE(scaleConsistent(14.4, 10.0, ratio(0, 2), sf));
+  // Wrong matches: the same distance but five octaves apart; the octaves say the point came closer, the
+  // triangulated distances say it went 2.5x farther.
+  EXPECT_FALSE(scaleConsistent(60.0, 58.0, ratio(0, 5), sf));
+  EXPECT_FALSE(scaleConsistent(60.0, 58.0, ratio(5, 0), sf));
+  EXPECT_FALSE(scaleConsistent(10.0, 25.0, ratio(0, 2), sf));
+  // No distance: refused, never a division by zero.
+  EXPECT_FALSE(scaleConsistent(0.0, 10.0, 1.0, sf));
+  EXPECT_FALSE(scaleConsistent(10.0, 0.0, 1.0, sf));
 }

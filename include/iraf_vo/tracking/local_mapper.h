@@ -47,6 +47,10 @@ struct LocalMapperStats {
   double ba_final_rmse_px = 0.0;  // last BA
 };
 
+/// Scale consistency of a new point's match: the ratio of its distances d2 / d1 from the two keyframes agrees with the
+/// ratio of the keypoints' octave scales (octave_ratio = sigma1 / sigma2) within a factor 1.5 x scale_factor.
+bool scaleConsistent(double d1, double d2, double octave_ratio, double scale_factor);
+
 class LocalMapper {
  public:
   /// Starts the mapping thread when params.mapping_thread. camera, params, map must outlive the mapper.
