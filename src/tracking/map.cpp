@@ -194,15 +194,22 @@ void Map::countVisibility(const std::vector<LocalPoint>& local, const std::vecto
   }
 }
 
-int Map::trackedPoints(long kf_id, size_t min_observations) const {
+int Map::trackedPoints(long kf_id, size_t min_observations, double max_depth, int* nearer) const {
   std::lock_guard<std::mutex> lk(mutex_);
   int n = 0;
+  if (nearer) *nearer = 0;
   auto it = keyframes_.find(kf_id);
   if (it == keyframes_.end()) return 0;
-  for (long pid : it->second->point_id) {
+  const Keyframe& kf = *it->second;
+  for (long pid : kf.point_id) {
     if (pid < 0) continue;
     auto pt = points_.find(pid);
-    if (pt != points_.end() && pt->second->observations() >= min_observations) ++n;
+    if (pt == points_.end() || pt->second->observations() < min_observations) continue;
+    ++n;
+    if (nearer) {
+      const double z = (kf.T_c_w * pt->second->p_w).z();
+      if (z > 0 && z < max_depth) ++*nearer;
+    }
   }
   return n;
 }
@@ -215,22 +222,6 @@ int Map::pointsNearerThan(const std::vector<long>& ids, const Eigen::Isometry3d&
     auto pt = points_.find(pid);
     if (pt == points_.end()) continue;
     const double z = (T_c_w * pt->second->p_w).z();
-    if (z > 0 && z < max_depth) ++n;
-  }
-  return n;
-}
-
-int Map::trackedPointsNearerThan(long kf_id, size_t min_observations, double max_depth) const {
-  std::lock_guard<std::mutex> lk(mutex_);
-  auto it = keyframes_.find(kf_id);
-  if (it == keyframes_.end()) return 0;
-  const Keyframe& kf = *it->second;
-  int n = 0;
-  for (long pid : kf.point_id) {
-    if (pid < 0) continue;
-    auto pt = points_.find(pid);
-    if (pt == points_.end() || pt->second->observations() < min_observations) continue;
-    const double z = (kf.T_c_w * pt->second->p_w).z();
     if (z > 0 && z < max_depth) ++n;
   }
   return n;

@@ -211,13 +211,14 @@ bool Tracker::Impl::addKeyframeIfNeeded(Frame& cur, TrackResult* res) {
   KeyframeCandidate c;
   c.frames_since_keyframe = frames_since_kf;
   c.inliers = res->inliers;
-  if (c.frames_since_keyframe >= p.min_frames_between_keyframes)
-    c.reference_tracked = map.trackedPoints(last_kf_id, 2);
-  if (c.frames_since_keyframe >= p.min_frames_between_keyframes && !stereo && have_velocity &&
-      p.keyframe_close_steps > 0) {
-    const double max_depth = p.keyframe_close_steps * velocity.translation().norm();
-    c.close_tracked = map.pointsNearerThan(cur.point_id, cur.T_c_w, max_depth);
-    c.reference_close = map.trackedPointsNearerThan(last_kf_id, 2, max_depth);
+  if (c.frames_since_keyframe >= p.min_frames_between_keyframes) {
+    if (!stereo && have_velocity && p.keyframe_close_steps > 0) {  // the close-point rule (keyframe_policy.h)
+      const double max_depth = p.keyframe_close_steps * velocity.translation().norm();
+      c.close_tracked = map.pointsNearerThan(cur.point_id, cur.T_c_w, max_depth);
+      c.reference_tracked = map.trackedPoints(last_kf_id, 2, max_depth, &c.reference_close);
+    } else {
+      c.reference_tracked = map.trackedPoints(last_kf_id, 2);
+    }
   }
   if (!needNewKeyframe(c, p)) return false;
   std::vector<StereoMapPoint> stereo_points;

@@ -110,8 +110,11 @@ TEST(MapTest, PointsNearerThanCountTheCloseOnes) {
   for (int i = 0; i < n; ++i) pts.push_back({Eigen::Vector3d(0, 0, 2.0 + i), 0, i, 0, i});
   int created = 0;
   ASSERT_TRUE(map.createInitialMap(kf0, kf1, pts, n, &created));
-  EXPECT_EQ(map.trackedPointsNearerThan(kf1->id, 2, 5.0), 3) << "depths 2, 3, 4";
-  EXPECT_EQ(map.trackedPointsNearerThan(kf1->id, 3, 5.0), 0) << "each point has two observations";
+  int nearer = -1;
+  EXPECT_EQ(map.trackedPoints(kf1->id, 2, 5.0, &nearer), n);
+  EXPECT_EQ(nearer, 3) << "depths 2, 3, 4";
+  EXPECT_EQ(map.trackedPoints(kf1->id, 3, 5.0, &nearer), 0);
+  EXPECT_EQ(nearer, 0) << "each point has two observations";
   Eigen::Isometry3d T_c_w = Eigen::Isometry3d::Identity();
   T_c_w.translation() = Eigen::Vector3d(0, 0, -1.0);  // 1 m further forward
   std::vector<long> ids = kf1->point_id;

@@ -165,12 +165,11 @@ class Map {
   /// Points seen in the frame's view (visible) and matched (found): ORB-SLAM's found ratio.
   void countVisibility(const std::vector<LocalPoint>& local, const std::vector<char>& visible,
                        const std::vector<int>& keypoint_of_point);
-  /// Points of keyframe kf_id observed by >= min_observations keyframes.
-  int trackedPoints(long kf_id, size_t min_observations) const;
+  /// Points of keyframe kf_id observed by >= min_observations keyframes; with `nearer`, also how many of them are
+  /// nearer than max_depth to that keyframe (one pass).
+  int trackedPoints(long kf_id, size_t min_observations, double max_depth = 0.0, int* nearer = nullptr) const;
   /// Of the points ids (-1: none) those nearer than max_depth to a camera at T_c_w.
   int pointsNearerThan(const std::vector<long>& ids, const Eigen::Isometry3d& T_c_w, double max_depth) const;
-  /// Of the points of keyframe kf_id observed by >= min_observations keyframes those nearer than max_depth to it.
-  int trackedPointsNearerThan(long kf_id, size_t min_observations, double max_depth) const;
 
   // ---- local mapping ----
   /// Erases recent points found in fewer than min_found_ratio of the frames that saw them, or observed by
