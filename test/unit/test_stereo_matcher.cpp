@@ -177,7 +177,7 @@ TEST(StereoMatcher, FarPlaneDepthWithSubPixelRefinement) {
 // Far points (disparity below stereo_min_disparity_px) get no depth from one stereo frame: near the floor, only
 // the matches whose disparity error was positive survive the depth range, so their depths come out short.
 TEST(StereoMatcher, NoDepthBelowTheDisparityFloor) {
-  for (const CameraModelPtr cam : {CameraModelPtr(std::make_shared<TestPinhole>(640, 480, 450.0, 320.0, 240.0)),
+  for (const CameraModelPtr& cam : {CameraModelPtr(std::make_shared<TestPinhole>(640, 480, 450.0, 320.0, 240.0)),
                                    CameraModelPtr(std::make_shared<TestFisheye>(512, 512, 190.0, 256.0, 256.0))}) {
     const StereoRig rig = syntheticRig(cam);
     SyntheticWorld world;
