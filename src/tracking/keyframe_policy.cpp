@@ -12,7 +12,9 @@ bool needNewKeyframe(const KeyframeCandidate& c, const TrackerParams& p) {
   const bool timeout = c.frames_since_keyframe >= p.max_frames_between_keyframes;
   const bool few_tracked = c.inliers < p.keyframe_tracked_ratio * c.reference_tracked && (timeout || mapping_idle);
   const bool timeout_and_changed = timeout && c.inliers < 0.98 * c.reference_tracked;
-  return losing_map || few_tracked || timeout_and_changed;
+  const bool stereo_needs_close = c.stereo_close_tracked >= 0 && c.stereo_close_tracked < kStereoCloseTracked &&
+                                  c.stereo_close_untracked > kStereoCloseUntracked;
+  return losing_map || few_tracked || timeout_and_changed || stereo_needs_close;
 }
 
 }  // namespace iraf_vo

@@ -188,4 +188,10 @@ std::vector<StereoMapPoint> stereoMapPoints(const std::vector<StereoMatch>& matc
   return out;
 }
 
+int closeWithoutPoint(const std::vector<StereoMatch>& matches, const Frame& left, double close_depth) {
+  return static_cast<int>(std::count_if(matches.begin(), matches.end(), [&](const StereoMatch& m) {
+    return left.point_id[m.left] < 0 && m.depth() <= close_depth;
+  }));
+}
+
 }  // namespace iraf_vo

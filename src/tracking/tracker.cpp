@@ -219,6 +219,10 @@ bool Tracker::Impl::addKeyframeIfNeeded(Frame& cur, TrackResult* res) {
     } else {
       c.reference_tracked = map.trackedPoints(last_kf_id, 2);
     }
+    if (stereo) {  // the stereo close-point rule (keyframe_policy.h)
+      c.stereo_close_tracked = map.pointsNearerThan(cur.point_id, cur.T_c_w, stereo->closeDepth());
+      c.stereo_close_untracked = kf_close_untracked;
+    }
   }
   if (!needNewKeyframe(c, p)) return false;
   std::vector<StereoMapPoint> stereo_points;
@@ -227,6 +231,7 @@ bool Tracker::Impl::addKeyframeIfNeeded(Frame& cur, TrackResult* res) {
     // Matched only now (stereo_match_every_frame false): the keyframe's pose again, with its right residuals.
     if (!p.stereo_match_every_frame) res->right_inliers = std::max(0, pose_tracker.refineWithRight(cur, map));
     stereo_points = stereoMapPoints(m, cur, true);
+    kf_close_untracked = closeWithoutPoint(m, cur, stereo->closeDepth());
   }
   // mapped right here: the next frames match its new points (stereo: its close points first)
   last_kf_id = mapper.addKeyframe(cur, stereo_points);
@@ -279,6 +284,7 @@ void Tracker::Impl::resetMap() {
   last_kf_id = -1;
   last_ref_kf = -1;
   frames_since_kf = 0;
+  kf_close_untracked = 0;
   consecutive_lost = 0;
   state = TrackingState::kNotInitialized;
 }

@@ -41,7 +41,8 @@ const std::vector<StereoMatch>& Tracker::Impl::stereoMatches(Frame& cur, TrackRe
 bool Tracker::Impl::initializeStereo(Frame& cur, TrackResult* res) {
   cur.T_c_w = have_last_good ? last_good_T_w_c.inverse() : Eigen::Isometry3d::Identity();
   std::fill(cur.point_id.begin(), cur.point_id.end(), -1);
-  const std::vector<StereoMapPoint> points_w = stereoMapPoints(stereoMatches(cur, res), cur, false);
+  const std::vector<StereoMatch>& matches = stereoMatches(cur, res);
+  const std::vector<StereoMapPoint> points_w = stereoMapPoints(matches, cur, false);
   auto kf = Keyframe::fromFrame(cur, cur.T_c_w);  // after the matching: with the right observations
   int points = 0;
   if (!map.createStereoMap(kf, points_w, p.stereo_init_min_points, &points)) {
@@ -51,6 +52,7 @@ bool Tracker::Impl::initializeStereo(Frame& cur, TrackResult* res) {
   }
   initializer.clearReference();
   metric_map = true;
+  kf_close_untracked = closeWithoutPoint(matches, cur, stereo->closeDepth());  // cur.point_id: all -1 here
   cur.point_id = kf->point_id;
   last_kf_id = kf->id;
   res->inliers = points;

@@ -12,6 +12,13 @@
 //       of them): on a road the few near points leave the view within frames, and a pose from the far points
 //       alone loses the scale (the keyframe after it triangulates its near points at that scale).
 //   (c) frames since the last keyframe >= max_frames_between_keyframes AND inliers < 0.98 * reference
+//   (d) stereo (ORB-SLAM's stereo close-point condition): fewer than kStereoCloseTracked inliers nearer than the
+//       stereo close depth (stereo_min_disparity_px) AND the last keyframe left more than kStereoCloseUntracked
+//       close left-right matches without a map point (the scene offers close points the map does not track).
+//       No mapping wait: on a road the near points leave the view within 2-3 frames, and the step between two
+//       keyframes is then fixed by the farther points, whose stereo depth is short near the disparity floor.
+//       Left-right matching runs on keyframes only, so the last keyframe's untracked close matches stand in for
+//       ORB-SLAM's per-frame count.
 #pragma once
 
 #include "iraf_vo/tracking/tracker_params.h"
@@ -24,9 +31,15 @@ struct KeyframeCandidate {
   int reference_tracked = 0;     // points of the last keyframe observed by >= 2 keyframes
   int reference_close = 0;       // of those, nearer than keyframe_close_steps frame steps to it
   int close_tracked = 0;         // inliers nearer than that to the current frame
+  int stereo_close_tracked = -1;   // stereo: inliers nearer than the stereo close depth (-1: monocular)
+  int stereo_close_untracked = 0;  // stereo: the last keyframe's close left-right matches without a map point
 };
 
 constexpr int kMinClosePoints = 10;  // fewer close points in the reference keyframe: the close rule stays off
+// ORB-SLAM's stereo rule uses 100 / 70. 150: simulated highway pinhole 0.200 % of the path / scale 1.0065 at 100,
+// 0.090 % / 1.0005 at 150; EuRoC MH_01 never reaches it (same keyframes).
+constexpr int kStereoCloseTracked = 150;
+constexpr int kStereoCloseUntracked = 70;
 
 bool needNewKeyframe(const KeyframeCandidate& c, const TrackerParams& p);
 

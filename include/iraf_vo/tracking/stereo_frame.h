@@ -34,6 +34,8 @@ class StereoFrame {
   const std::vector<StereoMatch>& matches(Frame* cur, double* ms);
   /// Whether matches() ran on this frame.
   bool matched() const { return matched_; }
+  /// Matches farther than this are far ones (StereoMatcher::closeDepth).
+  double closeDepth() const { return matcher_.closeDepth(); }
 
  private:
   StereoMatcher matcher_;
