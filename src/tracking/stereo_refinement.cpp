@@ -9,22 +9,47 @@ namespace iraf_vo {
 namespace {
 
 /// A (2 w + 1)^2 patch around `centre` sampled every `step` px (bilinear), minus its mean. false outside the image.
+/// The column offsets and weights are computed once per patch, the row pointers once per row (the same arithmetic
+/// per sample as computing both at every sample).
 bool samplePatch(const cv::Mat& im, const Eigen::Vector2d& centre, double step, int w, std::vector<float>* out) {
-  out->clear();
   const double reach = w * step + 1.0;
   if (centre.x() - reach < 0.0 || centre.y() - reach < 0.0 || centre.x() + reach > im.cols - 1 ||
       centre.y() + reach > im.rows - 1)
     return false;
+  const int n = 2 * w + 1;
+  out->resize(static_cast<size_t>(n) * static_cast<size_t>(n));
+  constexpr int kMaxSide = 64;
+  int col_stack[kMaxSide];
+  float wcol_stack[kMaxSide];
+  std::vector<int> col_heap;
+  std::vector<float> wcol_heap;
+  int* col = col_stack;
+  float* wcol = wcol_stack;
+  if (n > kMaxSide) {
+    col_heap.resize(static_cast<size_t>(n));
+    wcol_heap.resize(static_cast<size_t>(n));
+    col = col_heap.data();
+    wcol = wcol_heap.data();
+  }
+  for (int x = -w; x <= w; ++x) {
+    const double u = centre.x() + x * step;
+    col[x + w] = static_cast<int>(u);
+    wcol[x + w] = static_cast<float>(u - col[x + w]);
+  }
   double sum = 0.0;
+  float* o = out->data();
   for (int y = -w; y <= w; ++y) {
-    for (int x = -w; x <= w; ++x) {
-      const double u = centre.x() + x * step, v = centre.y() + y * step;
-      const int u0 = static_cast<int>(u), v0 = static_cast<int>(v);
-      const float au = static_cast<float>(u - u0), av = static_cast<float>(v - v0);
-      const uint8_t* r0 = im.ptr<uint8_t>(v0) + u0;
-      const uint8_t* r1 = im.ptr<uint8_t>(v0 + 1) + u0;
+    const double v = centre.y() + y * step;
+    const int v0 = static_cast<int>(v);
+    const float av = static_cast<float>(v - v0);
+    const uint8_t* row0 = im.ptr<uint8_t>(v0);
+    const uint8_t* row1 = im.ptr<uint8_t>(v0 + 1);
+    for (int c = 0; c < n; ++c) {
+      const float au = wcol[c];
+      const uint8_t* r0 = row0 + col[c];
+      const uint8_t* r1 = row1 + col[c];
       const float s = (1.f - av) * ((1.f - au) * r0[0] + au * r0[1]) + av * ((1.f - au) * r1[0] + au * r1[1]);
-      out->push_back(s);
+      *o++ = s;
       sum += s;
     }
   }
