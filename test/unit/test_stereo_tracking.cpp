@@ -138,7 +138,7 @@ TEST(StereoTracking, FisheyePairIsMetricToo) {
 // of ~1140 keypoints) still starts at the first frame and stays metric.
 TEST(StereoTracking, FewStereoPointsStillStartAtTheFirstFrame) {
   const StereoRun r = runSequence(std::make_shared<TestPinhole>(752, 480, 458.0, 376.0, 240.0), 1000, 40, false,
-                                  false, 20);
+                                  false, 15);
   EXPECT_EQ(r.first_tracked, 0);
   EXPECT_EQ(r.tracked, 40);
   EXPECT_EQ(r.stats.initializations, 1);
