@@ -118,8 +118,8 @@ std::vector<StereoMatch> StereoMatcher::match(const Frame& left, const Frame& ri
 void StereoMatcher::keepClosePoints(std::vector<StereoMatch>* matches) const {
   auto far = std::stable_partition(matches->begin(), matches->end(),
                                    [this](const StereoMatch& m) { return m.depth() <= close_depth_; });
-  const long missing = p_.stereo_init_min_points - (far - matches->begin());
-  if (missing > 0) {  // too few close points for a first map: the nearest far ones too (ORB-SLAM's keyframe rule)
+  const long missing = p_.stereo_far_fill_points - (far - matches->begin());
+  if (missing > 0) {  // too few close points: the nearest far ones too (ORB-SLAM's keyframe rule)
     std::stable_sort(far, matches->end(),
                      [](const StereoMatch& a, const StereoMatch& b) { return a.depth() < b.depth(); });
     far += std::min<long>(missing, matches->end() - far);

@@ -113,6 +113,8 @@ const ParamTable<TrackerParams>& trackerParamTable() {
                       "Stereo: ... and with less disparity than this (focal x baseline / depth; 0 = off) [px]"),
           intParam("stereo_init_min_points", &P::stereo_init_min_points, 8, 10000,
                    "Stereo: points the first (metric) map needs from one frame"),
+          intParam("stereo_far_fill_points", &P::stereo_far_fill_points, 0, 10000,
+                   "Stereo: a matched frame with fewer close points gets the nearest far ones up to this many"),
           boolParam("stereo_match_every_frame", &P::stereo_match_every_frame,
                     "Stereo: match left-right on every frame (right residuals in every pose refinement); false: on keyframes only"),
           intParam("stereo_ba_max_iterations", &P::stereo_ba_max_iterations, 0, 200,

@@ -204,6 +204,34 @@ TEST(StereoMatcher, NoDepthBelowTheDisparityFloor) {
   }
 }
 
+// A frame with few close matches: the nearest far ones fill it up to stereo_far_fill_points, whatever the start's
+// minimum (stereo_init_min_points) is; 0 = no fill.
+TEST(StereoMatcher, FarPointsFillUpToTheirOwnCount) {
+  auto cam = std::make_shared<TestPinhole>(640, 480, 450.0, 320.0, 240.0);
+  const StereoRig rig = syntheticRig(cam);
+  SyntheticWorld world;
+  const double floor_depth = cam->focal() * rig.baseline() / 2.0;  // 2 px: 27 m
+  world.addBox(40, Eigen::Vector3d(-3, -2, 3.0), Eigen::Vector3d(3, 2, 0.3 * floor_depth));
+  world.addBox(400, Eigen::Vector3d(-20, -10, 1.5 * floor_depth), Eigen::Vector3d(20, 10, 2.5 * floor_depth));
+  Frame left, right;
+  ASSERT_NO_FATAL_FAILURE(toFrames(world.render(*cam, Eigen::Isometry3d::Identity(), 0.0, 0.3, 4),
+                                   world.render(*cam, rig.T_r_l.inverse(), 0.0, 0.3, 4), *cam, &left, &right));
+  TrackerParams p;
+  p.stereo_far_fill_points = 0;
+  const size_t close = StereoMatcher(rig, p).match(left, right).size();
+  EXPECT_GT(close, 20u);
+  EXPECT_LT(close, 60u);
+  for (int init_min : {8, 100}) {
+    p.stereo_init_min_points = init_min;
+    p.stereo_far_fill_points = 120;
+    const std::vector<StereoMatch> m = StereoMatcher(rig, p).match(left, right);
+    EXPECT_EQ(m.size(), 120u) << init_min;
+    int far = 0;
+    for (const StereoMatch& x : m) far += x.depth() > floor_depth;
+    EXPECT_EQ(far, 120 - static_cast<int>(close)) << init_min;
+  }
+}
+
 TEST(StereoMatcher, SyntheticPinholePair) {
   checkSyntheticPair(std::make_shared<TestPinhole>(640, 480, 450.0, 320.0, 240.0));
 }

@@ -20,7 +20,7 @@
 //
 // Close / far (ORB-SLAM's rule, as a disparity): a match with less than stereo_min_disparity_px of disparity
 // (focal x baseline / depth; 2 px) gives no depth from one stereo frame, unless the frame has fewer close matches
-// than a first map needs (stereo_init_min_points): then the nearest far ones fill it up. Far points enter the map
+// than stereo_far_fill_points (100): then the nearest far ones fill it up. Far points enter the map
 // from the triangulation between keyframes. Below ~2 px the kept matches' depths are biased short (the cap
 // selects positive disparity errors): simulated highway, pinhole, 80-150 m -37 %, fisheye beyond 150 m -90 %.
 #pragma once
@@ -62,14 +62,14 @@ class StereoMatcher {
 
   double maxDepth() const { return max_depth_; }
   /// Points farther than this (less disparity than stereo_min_disparity_px) are kept only to fill a frame up to
-  /// stereo_init_min_points, nearest first.
+  /// stereo_far_fill_points, nearest first.
   double closeDepth() const { return close_depth_; }
 
  private:
   /// Left keypoint i's right pixel and bearing refined along the epipolar curve (step: the finer octave's pixel).
   bool refineRight(const Frame& left, size_t i, int right_octave, const cv::Mat& left_image, const cv::Mat& right_image,
                    Eigen::Vector2d* uv_r, Eigen::Vector3d* b_r) const;
-  /// Drops the far matches (depth > close_depth_) but the nearest ones a first map needs; the order is kept.
+  /// Drops the far matches (depth > close_depth_) but the nearest ones up to stereo_far_fill_points; the order is kept.
   void keepClosePoints(std::vector<StereoMatch>* matches) const;
   const StereoRig& rig_;
   const TrackerParams& p_;

@@ -84,7 +84,13 @@ struct TrackerParams {
   double stereo_min_depth = 0.1;            // stereo points closer than this are dropped [m]
   double stereo_max_depth_baselines = 1000.0;  // ... and farther than this many baselines (stereo_matcher.h)
   double stereo_min_disparity_px = 2.0;      // ... and with less disparity than this (stereo_matcher.h)
-  int stereo_init_min_points = 100;         // stereo points the first (metric) map needs from one frame
+  int stereo_init_min_points = 40;          // stereo points the first (metric) map needs from one frame (ORB-SLAM
+                                            // has no minimum). A wide baseline on a close scene repeats few
+                                            // keypoints in the right image (KITTI rig, 0.54 m, at 0.4-4 m: 33-99
+                                            // per frame). The next frame's search needs min_search_matches (30)
+                                            // of them: a start with 34 found 28-30 and was lost, 42 tracked
+  int stereo_far_fill_points = 100;         // a matched frame with fewer close points than this gets the nearest
+                                            // far ones up to it (ORB-SLAM's stereo keyframe rule)
   bool stereo_match_every_frame = false;    // true: left-right matching (and the right front-end) on every frame,
                                             // right residuals in every pose refinement; false: on the
                                             // initialization and keyframes only, whose pose is refined again
