@@ -65,6 +65,7 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in, bool has_right, RightFe
       s.keyframes += new_keyframes;
     });
     mapper.acceptKeyframe(last_kf_id);
+    map_settled = mapBaselineSettled(cur);
     onTracked(cur, &res, true);  // before the mapper can move the keyframe: the last frame follows its BA
     t0 = SteadyClock::now();
     mapper.insertKeyframe(last_kf_id);
@@ -82,8 +83,9 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in, bool has_right, RightFe
   if (!trackWithMotionModel(cur, &res) && !relocalizeAfterDarkness(cur, &res)) {
     map_update.unlock();
     health.restart();
+    const bool reported = map_settled;
     handleLostFrame(cur);
-    return notTracked(TrackingState::kLost, t_start, res);
+    return notTracked(reported ? TrackingState::kLost : TrackingState::kInitializing, t_start, res);
   }
   state = TrackingState::kTracking;
   consecutive_lost = 0;
@@ -100,6 +102,7 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in, bool has_right, RightFe
   ++frames_since_kf;
   t0 = SteadyClock::now();
   const bool new_keyframe = addKeyframeIfNeeded(cur, &res);
+  if (!map_settled) map_settled = mapBaselineSettled(cur);
   onTracked(cur, &res, res.is_keyframe);
   map_update.unlock();
   if (new_keyframe) mapper.insertKeyframe(last_kf_id);  // BA: here (synchronous) or on the mapping thread
@@ -242,9 +245,11 @@ bool Tracker::Impl::addKeyframeIfNeeded(Frame& cur, TrackResult* res) {
 }
 
 void Tracker::Impl::handleLostFrame(const Frame& cur) {
-  const bool was_tracking = state == TrackingState::kTracking;
-  updateStats([was_tracking](TrackerStats& s) {
-    s.lost_frames++;
+  // A young map whose poses are not reported yet (init_min_map_baseline): its losses are part of the initialization.
+  const bool was_tracking = state == TrackingState::kTracking && map_settled;
+  const bool reported = map_settled;
+  updateStats([was_tracking, reported](TrackerStats& s) {
+    if (reported) s.lost_frames++;
     if (was_tracking) s.lost_events++;
   });
   state = TrackingState::kLost;
@@ -253,7 +258,7 @@ void Tracker::Impl::handleLostFrame(const Frame& cur) {
   resetMap();
   signal.restart();
   initializer.setReference(cur);  // this frame starts the new initialization
-  reinitializing = true;
+  reinitializing = reported;
   state = initializer.hasReference() ? TrackingState::kInitializing : TrackingState::kNotInitialized;
 }
 
@@ -261,7 +266,7 @@ void Tracker::Impl::handleLostFrame(const Frame& cur) {
 // light returns (no reset counted); before a map exists the initialization waits for the light.
 TrackResult Tracker::Impl::darkFrame(SteadyClock::time_point t_start, TrackResult res) {
   const bool has_map = state == TrackingState::kTracking || state == TrackingState::kLost;
-  const bool was_tracking = state == TrackingState::kTracking;
+  const bool was_tracking = state == TrackingState::kTracking && map_settled;
   updateStats([&](TrackerStats& s) {
     s.dark_frames++;
     if (has_map || reinitializing) s.lost_frames++;
@@ -286,11 +291,13 @@ void Tracker::Impl::resetMap() {
   frames_since_kf = 0;
   kf_close_untracked = 0;
   consecutive_lost = 0;
+  map_settled = true;
   state = TrackingState::kNotInitialized;
 }
 
 void Tracker::Impl::onTracked(const Frame& cur, TrackResult* res, bool is_keyframe) {
-  res->state = TrackingState::kTracking;
+  // A young map below init_min_map_baseline is tracked and mapped, its frames reported INITIALIZING (no pose).
+  res->state = map_settled ? TrackingState::kTracking : TrackingState::kInitializing;
   res->is_keyframe = is_keyframe;
   res->T_w_c = cur.T_c_w.inverse();
   if (res->initialized_now) covariance_calibrator.start(cur.T_c_w, cur.index);
@@ -305,7 +312,7 @@ void Tracker::Impl::onTracked(const Frame& cur, TrackResult* res, bool is_keyfra
   T_last_rel_kf = last_ref_kf >= 0 ? cur.T_c_w * T_kf.inverse() : Eigen::Isometry3d::Identity();
   res->reference_keyframe_id = last_ref_kf;
   res->T_kf_c = T_last_rel_kf.inverse();
-  updateStats([](TrackerStats& s) { s.tracked++; });
+  if (map_settled) updateStats([](TrackerStats& s) { s.tracked++; });
 }
 
 // ============================================================================================

@@ -57,6 +57,7 @@ struct Tracker::Impl {
   Eigen::Isometry3d last_good_T_w_c = Eigen::Isometry3d::Identity();
   double last_median_depth = 1.0;
   bool last_dark = false;  // the previous frame was too dark
+  bool map_settled = true;  // the map's keyframes span init_min_map_baseline of the depth: poses are reported
 
   Impl(CameraModelPtr c, const TrackerParams& params, const StereoRig& stereo_rig = StereoRig())
       : cam(std::move(c)), rig(stereo_rig), p(params), mapper(*cam, p, &map), initializer(*cam, p), pose_tracker(*cam, p), health(p), signal(p), relocalizer(*cam, p) {
@@ -77,6 +78,7 @@ struct Tracker::Impl {
   const std::vector<StereoMatch>& stereoMatches(Frame& cur, TrackResult* res);
   bool initializeMap(Frame& cur, TrackResult* res);
   bool initializeStereo(Frame& cur, TrackResult* res);
+  bool mapBaselineSettled(const Frame& cur) const;
   bool trackWithMotionModel(Frame& cur, TrackResult* res);
   Eigen::Isometry3d lastPose() const;
   bool trackFrom(Frame& cur, const Eigen::Isometry3d& T_last, const Eigen::Isometry3d& T_predicted, TrackResult* res);

@@ -2,6 +2,7 @@
 // matches), and the stereo frame's right image (stereo_frame.h).
 #include "tracker_impl.h"
 
+#include "iraf_vo/common/median.h"
 #include "iraf_vo/tracking/pose_covariance.h"
 
 #include <algorithm>
@@ -61,6 +62,25 @@ bool Tracker::Impl::initializeStereo(Frame& cur, TrackResult* res) {
   res->covariance = worldPoseCovariance(initialPoseInformation(cur), cur.T_c_w);
   have_velocity = false;
   return true;
+}
+
+// Monocular: whether the map's keyframes span init_min_map_baseline of the median depth of its points in the current
+// frame. Below, each local BA of the young map re-weighs a baseline that is small against the depth and moves the
+// map's scale (the poses tracked meanwhile keep the old one); the frames are then tracked and mapped, not reported.
+bool Tracker::Impl::mapBaselineSettled(const Frame& cur) const {
+  if (!(p.init_min_map_baseline > 0.0) || metric_map) return true;
+  const std::vector<KeyframePose> keyframes = map.keyframePoses();
+  if (keyframes.empty()) return true;
+  double span = 0.0;
+  for (const KeyframePose& k : keyframes)
+    span = std::max(span, (k.T_w_c.translation() - keyframes.front().T_w_c.translation()).norm());
+  std::vector<double> depth;
+  for (const Eigen::Vector3d& p_w : map.pointPositions()) {
+    const double z = (cur.T_c_w * p_w).z();
+    if (z > 0.0) depth.push_back(z);
+  }
+  if (depth.empty()) return false;
+  return span >= p.init_min_map_baseline * median(depth);
 }
 
 bool Tracker::Impl::initializeMap(Frame& cur, TrackResult* res) {
