@@ -7,14 +7,13 @@
 #include <iraf_vo/camera/stereo_rig.h>
 #include <iraf_vo/pipeline/front_end.h>
 #include <iraf_vo/pipeline/pipeline_params.h>
-#include <iraf_vo/sim/light_profile.h>
-#include <iraf_vo/sim/motion_preset.h>
 #include <iraf_vo/sim/renderer.h>
-#include <iraf_vo/sim/scene_presets.h>
 #include <iraf_vo/sim/sequence.h>
 #include <iraf_vo/sim/sim_stereo_rig.h>
 #include <iraf_vo/tracking/keyframe_policy.h>
 #include <iraf_vo/tracking/tracker.h>
+
+#include "motion_sim.h"
 
 #include <map>
 
@@ -41,33 +40,16 @@ struct RoadRun {
 // Highway frames [0, frames) through the offline runner's stereo path: one FrontEnd per camera (the left one keeps
 // its image for the sub-pixel disparities), the right features on demand.
 RoadRun trackRoad(int frames) {
-  const MotionPreset mp = motionPreset(MotionKind::kHighway);
-  SimParams sim;
-  sim.camera = "pinhole";
-  sim.rate_hz = mp.rate_hz;
-  sim.frames = frames;
-  sim.brightness = mp.brightness;
-  sim.exposure_time_s = mp.exposure_time_s;
-  sim.motion_blur_samples = mp.motion_blur_samples;
-  sim.threads = 2;
-  sim.seed = 0;
-  std::string err;
-  CameraModelPtr cam = makeSimCamera(sim.camera, 0, 0, &err);
+  const MotionSim m = makeMotionSim(MotionKind::kHighway, "pinhole", frames, 2, 0);
   RoadRun run;
-  if (!cam) {
-    ADD_FAILURE() << err;
+  if (!m.camera) {
+    ADD_FAILURE() << m.error;
     return run;
   }
-  SceneParams sp;
-  sp.texels_per_m = mp.texels_per_m;
-  sp.seed = sim.seed;
-  auto scene = std::make_shared<const Scene>(
-      makeMotionScene(sp, mp.traj, (mp.frames - 1) / sim.rate_hz + sim.exposure_time_s));
-  Renderer left(cam, scene, sim), right(cam, scene, sim);
-  const Eigen::Isometry3d T_l_r = rightCameraInLeft(SimStereoRig(), sim.camera);
+  const CameraModelPtr& cam = m.camera;
+  Renderer left(cam, m.scene, m.sim), right(cam, m.scene, m.sim);
+  const Eigen::Isometry3d T_l_r = rightCameraInLeft(SimStereoRig(), m.sim.camera);
   right.setPoseInRig(T_l_r);
-  LightProfile light;
-  EXPECT_TRUE(lightProfile("clean", mp.frames, sim.rate_hz, sim.exposure_time_s, false, sim.seed, &light));
   PipelineParams pp;
   applyResolutionRule(*cam, &pp);
   applyFrontEndMode(FrontEndMode::kIraf, &pp.enhance, &pp.features);
@@ -98,7 +80,8 @@ RoadRun trackRoad(int frames) {
     last_true = truth;
     have_last = true;
   };
-  EXPECT_TRUE(simulateSequence(left, &right, mp.traj, light, "", on_frame, nullptr, &err)) << err;
+  std::string err;
+  EXPECT_TRUE(simulateSequence(left, &right, m.preset.traj, m.light, "", on_frame, nullptr, &err)) << err;
   return run;
 }
 

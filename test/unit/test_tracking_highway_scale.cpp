@@ -6,12 +6,11 @@
 #include <iraf_vo/enhance/enhancer.h>
 #include <iraf_vo/features/feature_extractor.h>
 #include <iraf_vo/pipeline/pipeline_params.h>
-#include <iraf_vo/sim/light_profile.h>
-#include <iraf_vo/sim/motion_preset.h>
 #include <iraf_vo/sim/renderer.h>
-#include <iraf_vo/sim/scene_presets.h>
 #include <iraf_vo/sim/sequence.h>
 #include <iraf_vo/tracking/tracker.h>
+
+#include "motion_sim.h"
 
 #include <algorithm>
 #include <map>
@@ -27,31 +26,14 @@ struct HighwayRun {
 };
 
 HighwayRun trackHighway(const std::string& camera, uint64_t seed, int frames, double close_steps) {
-  const MotionPreset mp = motionPreset(MotionKind::kHighway);
-  SimParams sim;
-  sim.camera = camera;
-  sim.rate_hz = mp.rate_hz;
-  sim.frames = frames;
-  sim.brightness = mp.brightness;
-  sim.exposure_time_s = mp.exposure_time_s;
-  sim.motion_blur_samples = mp.motion_blur_samples;
-  sim.threads = 1;
-  sim.seed = seed;
-  std::string err;
-  CameraModelPtr cam = makeSimCamera(sim.camera, 0, 0, &err);
+  const MotionSim m = makeMotionSim(MotionKind::kHighway, camera, frames, 1, seed);
   HighwayRun run;
-  if (!cam) {
-    ADD_FAILURE() << err;
+  if (!m.camera) {
+    ADD_FAILURE() << m.error;
     return run;
   }
-  SceneParams sp;
-  sp.texels_per_m = mp.texels_per_m;
-  sp.seed = seed;
-  auto scene = std::make_shared<const Scene>(
-      makeMotionScene(sp, mp.traj, (mp.frames - 1) / sim.rate_hz + sim.exposure_time_s));
-  Renderer renderer(cam, scene, sim);
-  LightProfile light;
-  EXPECT_TRUE(lightProfile("clean", mp.frames, sim.rate_hz, sim.exposure_time_s, false, sim.seed, &light));
+  const CameraModelPtr& cam = m.camera;
+  Renderer renderer(cam, m.scene, m.sim);
   PipelineParams pp;
   applyResolutionRule(*cam, &pp);
   pp.tracker.keyframe_close_steps = close_steps;
@@ -65,7 +47,8 @@ HighwayRun trackHighway(const std::string& camera, uint64_t seed, int frames, do
     run.gt[f.index] = f.T_W_C.translation();
     if (r.state == TrackingState::kTracking) run.est[f.index] = r.T_w_c.translation();
   };
-  EXPECT_TRUE(simulateSequence(renderer, mp.traj, light, "", on_frame, &rep, &err)) << err;
+  std::string err;
+  EXPECT_TRUE(simulateSequence(renderer, m.preset.traj, m.light, "", on_frame, &rep, &err)) << err;
   tracker.waitForMapping();
   return run;
 }
