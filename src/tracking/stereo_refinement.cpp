@@ -18,19 +18,8 @@ bool samplePatch(const cv::Mat& im, const Eigen::Vector2d& centre, double step, 
     return false;
   const int n = 2 * w + 1;
   out->resize(static_cast<size_t>(n) * static_cast<size_t>(n));
-  constexpr int kMaxSide = 64;
-  int col_stack[kMaxSide];
-  float wcol_stack[kMaxSide];
-  std::vector<int> col_heap;
-  std::vector<float> wcol_heap;
-  int* col = col_stack;
-  float* wcol = wcol_stack;
-  if (n > kMaxSide) {
-    col_heap.resize(static_cast<size_t>(n));
-    wcol_heap.resize(static_cast<size_t>(n));
-    col = col_heap.data();
-    wcol = wcol_heap.data();
-  }
+  cv::AutoBuffer<int, 64> col(static_cast<size_t>(n));  // on the stack up to 64 columns
+  cv::AutoBuffer<float, 64> wcol(static_cast<size_t>(n));
   for (int x = -w; x <= w; ++x) {
     const double u = centre.x() + x * step;
     col[x + w] = static_cast<int>(u);
