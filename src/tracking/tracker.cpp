@@ -65,6 +65,8 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in, bool has_right, RightFe
       s.keyframes += new_keyframes;
     });
     mapper.acceptKeyframe(last_kf_id);
+    young_map_noisy = !(p.init_min_map_baseline_snr > 0.0) ||
+                      (in.signal.measured && in.signal.snr < p.init_min_map_baseline_snr);
     map_settled = mapBaselineSettled(cur);
     onTracked(cur, &res, true);  // before the mapper can move the keyframe: the last frame follows its BA
     t0 = SteadyClock::now();

@@ -57,6 +57,7 @@ struct Tracker::Impl {
   Eigen::Isometry3d last_good_T_w_c = Eigen::Isometry3d::Identity();
   double last_median_depth = 1.0;
   bool last_dark = false;  // the previous frame was too dark
+  bool young_map_noisy = false;  // the map started on an image below init_min_map_baseline_snr
   bool map_settled = true;  // the map's keyframes span init_min_map_baseline of the depth: poses are reported
 
   Impl(CameraModelPtr c, const TrackerParams& params, const StereoRig& stereo_rig = StereoRig())

@@ -52,6 +52,8 @@ const ParamTable<TrackerParams>& trackerParamTable() {
           doubleParam("init_match_ratio", &P::init_match_ratio, 0.1, 1.0, "Lowe ratio of the initialization matching"),
           doubleParam("init_min_map_baseline", &P::init_min_map_baseline, 0.0, 1.0,
                       "Monocular: frames are reported TRACKING only once the map's keyframes span this fraction of the median scene depth; before, the young map is tracked and mapped and its frames are reported INITIALIZING (0 = from the initialization on)"),
+          doubleParam("init_min_map_baseline_snr", &P::init_min_map_baseline_snr, 0.0, 1000.0,
+                      "init_min_map_baseline applies to maps started on an image whose estimated SNR (before enhancement) is below this (0 = to every map)"),
           intParam("match_threshold_high", &P::match_threshold_high, 1, 256,
                    "Hamming threshold of the projection search (ORB-SLAM TH_HIGH)"),
           intParam("match_threshold_low", &P::match_threshold_low, 1, 256,

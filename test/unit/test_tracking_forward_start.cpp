@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <iraf_vo/enhance/enhancer.h>
 #include <iraf_vo/features/feature_extractor.h>
+#include <iraf_vo/features/image_signal.h>
 #include <iraf_vo/pipeline/pipeline_params.h>
 #include <iraf_vo/sim/light_profile.h>
 #include <iraf_vo/sim/motion_preset.h>
@@ -52,8 +53,11 @@ double keyframeSpanOverDepth(const Tracker& tracker, const Eigen::Isometry3d& T_
 // Renders `frames` frames of the motion (motion blur off: the test's speed) and tracks them. `camera` replaces the
 // motion's own camera when given; `as_simulator` renders the first frames of iraf_vo_simulate's sequence (the scene
 // of the motion's whole length, its motion blur).
+// min_map_baseline: tracker.init_min_map_baseline (the other tracker settings as the resolution rule gives them);
+// snr > 0: every frame's image signal as measured (image_signal.h) but with this SNR (else not measured, as a bare extractor gives).
 StartResult runStart(MotionKind motion, uint64_t seed, int frames, double static_start_s = 0.0,
-                     const std::string& camera = "", bool as_simulator = false, double min_map_baseline = 0.0) {
+                     const std::string& camera = "", bool as_simulator = false, double min_map_baseline = 0.0,
+                     double snr = 0.0) {
   const MotionPreset mp = motionPreset(motion);
   SimParams sim;
   sim.camera = camera.empty() ? mp.camera : camera;
@@ -94,7 +98,12 @@ StartResult runStart(MotionKind motion, uint64_t seed, int frames, double static
   SimulateReport rep;
   const auto on_frame = [&](const SimFrame& f) {
         const EnhanceResult er = enhancer.enhance(f.image, pp.enhance);
-        const TrackResult r = tracker.track(extractor.extract(er.image, f.stamp_ns * 1e-9, pp.features));
+        FeatureFrame ff = extractor.extract(er.image, f.stamp_ns * 1e-9, pp.features);
+        if (snr > 0.0) {  // the image's own estimate, with the SNR replaced
+          ff.signal = measureImageSignal(f.image);
+          ff.signal.snr = snr;
+        }
+        const TrackResult r = tracker.track(ff);
         if (r.initialized_now && res.initialized_at < 0) res.initialized_at = index;
         if (res.first_tracked >= 0 && r.state != TrackingState::kTracking) ++res.not_tracked_after;
         if (res.first_tracked < 0) {
@@ -228,14 +237,24 @@ TEST(TrackingForwardStart, TwoViewRefusesRotationAndStillPastFarStructure) {
   }
 }
 
-// init_min_map_baseline: the drive's map starts at frame 1 from a baseline of ~8 % of the median depth; with 0.15 the
-// young map is tracked and mapped but its frames are reported INITIALIZING until the keyframes span 15 % of the
-// depth, then every frame is TRACKING (without the rule the first pose is the initialization's, at ~8 %).
+// init_min_map_baseline: the drive's map starts at frame 1 from a baseline of ~8 % of the median depth; with 0.15 and
+// images reported at SNR 4 (below init_min_map_baseline_snr 8) the young map is tracked and mapped but its frames are
+// reported INITIALIZING until the keyframes span 15 % of the depth, then every frame is TRACKING (without the rule the
+// first pose is the initialization's, at ~8 %).
 TEST(TrackingForwardStart, YoungMapReportedOnceItsKeyframesSpanTheMinimumBaseline) {
-  const StartResult r = runStart(MotionKind::kDrive, 0, 12, 0.0, "", false, 0.15);
+  const StartResult r = runStart(MotionKind::kDrive, 0, 12, 0.0, "", false, 0.15, 4.0);
   ASSERT_GE(r.initialized_at, 0) << join(r.failures);
   ASSERT_GE(r.first_tracked, 0) << join(r.failures);
   EXPECT_GT(r.first_tracked, r.initialized_at);
   EXPECT_GE(r.first_span_over_depth, 0.15);
   EXPECT_EQ(r.not_tracked_after, 0);
+}
+
+// The same start on images at SNR 30 (clean, above init_min_map_baseline_snr): the rule does not apply, the first pose
+// is the initialization's.
+TEST(TrackingForwardStart, YoungMapOfACleanStartReportedAtOnce) {
+  const StartResult r = runStart(MotionKind::kDrive, 0, 12, 0.0, "", false, 0.15, 30.0);
+  ASSERT_GE(r.initialized_at, 0) << join(r.failures);
+  EXPECT_EQ(r.first_tracked, r.initialized_at);
+  EXPECT_LT(r.first_span_over_depth, 0.15);
 }

@@ -35,8 +35,10 @@ struct TrackerParams {
   double init_ambiguity_angle_deg = 20.0; // while a direction this far away has a profile chi2 below 9.21 (99 %,
                                           // 2 dof, in units of the estimated noise); 0 = no check
   double init_match_ratio = 0.8;        // Lowe ratio of the initialization matching
-  double init_min_map_baseline = 0.0;   // monocular: poses reported once the keyframes span this fraction of the
+  double init_min_map_baseline = 0.05;  // monocular: poses reported once the keyframes span this fraction of the
                                         // median depth (a young map's scale moves with each BA until then); 0 = off
+  double init_min_map_baseline_snr = 8.0;  // ... for maps started on an image of estimated SNR below this (noisy,
+                                           // high gain: docs/decisions.md); 0 = for every map
   // ---- matching ----
   int match_threshold_high = 100;       // Hamming, projection search (ORB-SLAM TH_HIGH)
   int match_threshold_low = 50;         // Hamming, triangulation / brute force (ORB-SLAM TH_LOW)
