@@ -54,7 +54,8 @@ double keyframeSpanOverDepth(const Tracker& tracker, const Eigen::Isometry3d& T_
 // motion's own camera when given; `as_simulator` renders the first frames of iraf_vo_simulate's sequence (the scene
 // of the motion's whole length, its motion blur).
 // min_map_baseline: tracker.init_min_map_baseline (the other tracker settings as the resolution rule gives them);
-// snr > 0: every frame's image signal as measured (image_signal.h) but with this SNR (else not measured, as a bare extractor gives).
+// snr > 0: every frame's image signal as measured (image_signal.h) but with this SNR (else not measured, as a bare
+// extractor gives).
 StartResult runStart(MotionKind motion, uint64_t seed, int frames, double static_start_s = 0.0,
                      const std::string& camera = "", bool as_simulator = false, double min_map_baseline = 0.0,
                      double snr = 0.0) {
