@@ -67,7 +67,8 @@ bool Tracker::Impl::initializeStereo(Frame& cur, TrackResult* res) {
 // Monocular: whether the map's keyframes span init_min_map_baseline of the median depth of its points in the current
 // frame. Below, each local BA of the young map re-weighs a baseline that is small against the depth and moves the
 // map's scale (the poses tracked meanwhile keep the old one); the frames are then tracked and mapped, not reported.
-// Only for maps started on a noisy image (young_map_noisy): on clean ones the first BAs hardly move the scale.
+// Only for maps started on a noisy image (young_map_noisy): a clean start keeps its first poses, which a road start
+// within a few frames needs (docs/decisions.md).
 bool Tracker::Impl::mapBaselineSettled(const Frame& cur) const {
   if (!(p.init_min_map_baseline > 0.0) || metric_map || !young_map_noisy) return true;
   const std::vector<KeyframePose> keyframes = map.keyframePoses();
