@@ -12,7 +12,7 @@
 namespace iraf_vo {
 
 PoseTrackingResult PoseTracker::trackLocalMap(Frame& cur, const Eigen::Isometry3d& T_predicted, Map* map,
-                                              bool prediction_unknown) const {
+                                              bool prediction_unknown, int min_search_inliers) const {
   PoseTrackingResult res;
   auto t0 = SteadyClock::now();
   const std::vector<LocalPoint> local = map->localPoints(p_.predict_scale ? &cam_ : nullptr);
@@ -51,7 +51,9 @@ PoseTrackingResult PoseTracker::trackLocalMap(Frame& cur, const Eigen::Isometry3
     inliers = refinePose(cur, local, &matches, &T);
     res.ms_pose += msSince(t0);
   }
-  if (inliers < p_.min_tracking_inliers) {
+  // A pose from PnP needs min_tracking_inliers; one from the projection search around T_predicted may need more.
+  const int search_needs = std::max(p_.min_tracking_inliers, min_search_inliers);
+  if (inliers < (res.used_pnp ? p_.min_tracking_inliers : search_needs)) {
     t0 = SteadyClock::now();
     inliers = relocalize(cur, local, &matches, &T);
     res.used_pnp = inliers > 0;

@@ -117,7 +117,10 @@ bool Tracker::Impl::trackWithMotionModel(Frame& cur, TrackResult* res) {
   // Prediction; the last frame's pose follows its reference keyframe if BA moved it.
   const Eigen::Isometry3d T_last = lastPose();
   const Eigen::Isometry3d T_predicted = have_velocity ? velocity * T_last : T_last;
-  return trackFrom(cur, T_last, T_predicted, res);
+  // After darkness the last pose is only a guess: a relocalization from the search around it needs
+  // kMinAcceptedInliers before that search is narrowed around the refined pose (PoseTracker::trackLocalMap).
+  const int min_search_inliers = signal.awaitingRelocalization() ? Relocalizer::kMinAcceptedInliers : 0;
+  return trackFrom(cur, T_last, T_predicted, res, min_search_inliers);
 }
 
 // The last frame's pose, following its reference keyframe if a BA has moved it since.
@@ -143,9 +146,10 @@ bool Tracker::Impl::relocalizeAfterDarkness(Frame& cur, TrackResult* res) {
 }
 
 bool Tracker::Impl::trackFrom(Frame& cur, const Eigen::Isometry3d& T_last, const Eigen::Isometry3d& T_predicted,
-                              TrackResult* res) {
+                              TrackResult* res, int min_search_inliers) {
   // A metric (stereo) map without a motion model: the first frame after the stereo start or after a loss.
-  const PoseTrackingResult r = pose_tracker.trackLocalMap(cur, T_predicted, &map, metric_map && !have_velocity);
+  const PoseTrackingResult r = pose_tracker.trackLocalMap(cur, T_predicted, &map, metric_map && !have_velocity,
+                                                             min_search_inliers);
   res->matches = r.matches;
   res->inliers = r.inliers;
   res->used_pnp = r.used_pnp;

@@ -82,7 +82,8 @@ struct Tracker::Impl {
   bool mapBaselineSettled(const Frame& cur) const;
   bool trackWithMotionModel(Frame& cur, TrackResult* res);
   Eigen::Isometry3d lastPose() const;
-  bool trackFrom(Frame& cur, const Eigen::Isometry3d& T_last, const Eigen::Isometry3d& T_predicted, TrackResult* res);
+  bool trackFrom(Frame& cur, const Eigen::Isometry3d& T_last, const Eigen::Isometry3d& T_predicted, TrackResult* res,
+                 int min_search_inliers = 0);
   bool relocalizeAfterDarkness(Frame& cur, TrackResult* res);
   Eigen::Matrix<double, 6, 6> initialPoseInformation(const Frame& cur) const;
   std::string checkHealth(const Frame& cur, const PoseTrackingResult& r, const Eigen::Isometry3d& T_last,

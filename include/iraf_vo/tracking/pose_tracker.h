@@ -4,7 +4,10 @@
 // if still too few inliers: relocalization (brute force against the map points + PnP RANSAC) -> pose-only
 // refinement (Huber, chi2 5.991 outlier rejection) -> a second, narrow projection search
 // (search_radius_refine_px) with the refined pose -> refinement again. Tracked iff inliers >=
-// min_tracking_inliers. Without a motion model on a metric map the brute force + PnP comes first. Stereo
+// min_tracking_inliers. Without a motion model on a metric map the brute force + PnP comes first. A stricter
+// first refinement (min_search_inliers, relocalization after darkness) sends a weak projection-search pose to the
+// brute force + PnP instead: the narrow search around a pose collects the matches that agree with it, so only
+// the first pass's inliers are evidence independent of that pose. Stereo
 // (setStereo): the refinements add a right-image residual for each matched keypoint with a left-right match
 // (Frame::right_obs). ROS-free.
 #pragma once
@@ -42,8 +45,10 @@ class PoseTracker {
   /// Tracks `cur` against the map starting from T_predicted. On success sets cur.T_c_w and cur.point_id and
   /// counts the map points' visibility. prediction_unknown (no motion model, e.g. the frame after a stereo start):
   /// brute force + PnP against the local map first, the projection search around T_predicted only if that fails.
+  /// min_search_inliers: inliers the pose refined from the projection search needs before the narrow search
+  /// (fewer: brute force + PnP decides); at least min_tracking_inliers.
   PoseTrackingResult trackLocalMap(Frame& cur, const Eigen::Isometry3d& T_predicted, Map* map,
-                                   bool prediction_unknown = false) const;
+                                   bool prediction_unknown = false, int min_search_inliers = 0) const;
   /// Stereo: refines the tracked cur.T_c_w again with the right residuals of cur.right_obs (matched after the
   /// tracking, e.g. for a new keyframe); the keypoints whose point fails the chi2 test lose it (cur.point_id).
   /// Returns the right residuals in use, or -1 (cur unchanged) without right observations or with fewer than

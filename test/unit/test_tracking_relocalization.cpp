@@ -1,0 +1,147 @@
+// The pose tracker's relocalization path on a hand-built map: a projection search around a wrong prediction that
+// finds a small self-consistent set of matches (a decoy) keeps the wrong pose under the normal tracking threshold,
+// and with a stricter first refinement (min_search_inliers, as after darkness) the brute force + PnP finds the true
+// pose instead.
+#include "iraf_vo/tracking/map.h"
+#include "iraf_vo/tracking/pose_tracker.h"
+#include "unit/tracking_test_utils.h"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstring>
+#include <random>
+
+namespace iraf_vo {
+namespace {
+
+using Descriptor = std::array<uint8_t, 32>;
+
+struct View {
+  FeatureFrame features;
+  std::vector<int> keypoint_of_point;  // -1: not in the view
+};
+
+// Keypoints (octave 0, no noise) of the points seen from T_c_w, with their descriptors (flip_bits bits changed).
+void addPoints(const CameraModel& cam, const Eigen::Isometry3d& T_c_w, const std::vector<Eigen::Vector3d>& P,
+               const std::vector<Descriptor>& D, const std::vector<int>& ids, int flip_bits, View* v) {
+  FeatureFrame& f = v->features;
+  v->keypoint_of_point.resize(P.size(), -1);
+  for (int i : ids) {
+    Eigen::Vector2d uv;
+    const Eigen::Vector3d pc = T_c_w * P[i];
+    if (pc.z() < 0.1 || !cam.project(pc, &uv)) continue;
+    if (uv.x() < 2 || uv.y() < 2 || uv.x() > cam.width() - 3 || uv.y() > cam.height() - 3) continue;
+    cv::KeyPoint kp(static_cast<float>(uv.x()), static_cast<float>(uv.y()), 31.f);
+    kp.octave = 0;
+    kp.angle = -1.f;
+    kp.response = 1.f;
+    Descriptor d = D[i];
+    for (int b = 0; b < flip_bits; ++b) d[(7 * b + i) % 32] ^= static_cast<uint8_t>(1u << (b % 8));
+    cv::Mat row(1, 32, CV_8U);
+    std::memcpy(row.ptr<uint8_t>(0), d.data(), 32);
+    f.descriptors.push_back(row);
+    v->keypoint_of_point[i] = static_cast<int>(f.keypoints.size());
+    f.keypoints.push_back(kp);
+    f.stability.push_back(1.f);
+  }
+}
+
+Frame toFrame(const CameraModel& cam, View v, long index) {
+  v.features.width = cam.width();
+  v.features.height = cam.height();
+  v.features.stamp = 0.05 * index;
+  Frame f;
+  std::string err;
+  EXPECT_TRUE(Frame::fromFeatures(v.features, cam, index, &f, &err)) << err;
+  return f;
+}
+
+double centreDistance(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  return (a.inverse().translation() - b.inverse().translation()).norm();
+}
+
+struct DecoyScene {
+  test::TestPinhole cam{752, 480, 458.0, 376.0, 240.0};
+  TrackerParams params;
+  Map map;
+  Eigen::Isometry3d T_pred, T_true;  // camera poses T_c_w
+  Frame cur;
+
+  // 300 points 3-6 m ahead, mapped from two keyframes 10 cm apart; the camera is now 0.8 m to the side of the
+  // prediction (the last pose). The frame sees every point where it is, plus 35 decoy keypoints placed where 35
+  // map points project from the prediction, with those points' descriptors (4 bits off).
+  DecoyScene() {
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> ux(-4.0, 4.0), uy(-2.5, 2.5), uz(3.0, 6.0);
+    std::uniform_int_distribution<int> ub(0, 255);
+    std::vector<Eigen::Vector3d> P;
+    std::vector<Descriptor> D;
+    std::vector<int> all;
+    for (int i = 0; i < 300; ++i) {
+      P.emplace_back(ux(rng), uy(rng), uz(rng));
+      Descriptor d;
+      for (auto& b : d) b = static_cast<uint8_t>(ub(rng));
+      D.push_back(d);
+      all.push_back(i);
+    }
+    const Eigen::Isometry3d T0 = Eigen::Isometry3d::Identity();
+    Eigen::Isometry3d T1 = Eigen::Isometry3d::Identity();
+    T1.translation() = Eigen::Vector3d(-0.1, 0, 0);
+    View v0, v1;
+    addPoints(cam, T0, P, D, all, 0, &v0);
+    addPoints(cam, T1, P, D, all, 0, &v1);
+    const Frame f0 = toFrame(cam, v0, 0), f1 = toFrame(cam, v1, 1);
+    auto kf0 = Keyframe::fromFrame(f0, T0), kf1 = Keyframe::fromFrame(f1, T1);
+    std::vector<NewMapPoint> pts;
+    for (int i = 0; i < 300; ++i)
+      if (v0.keypoint_of_point[i] >= 0 && v1.keypoint_of_point[i] >= 0)
+        pts.push_back({P[i], 0, v1.keypoint_of_point[i], 0, v0.keypoint_of_point[i]});
+    int created = 0;
+    EXPECT_TRUE(map.createInitialMap(kf0, kf1, pts, 100, &created));
+
+    T_pred = T1;
+    T_true = T1;
+    T_true.translation() = Eigen::Vector3d(-0.9, 0, 0);
+    View now;
+    addPoints(cam, T_true, P, D, all, 0, &now);
+    std::vector<int> decoys;
+    for (int i = 0; i < 300 && decoys.size() < 35; i += 7)
+      if (v1.keypoint_of_point[i] >= 0) decoys.push_back(i);
+    addPoints(cam, T_pred, P, D, decoys, 4, &now);
+    cur = toFrame(cam, now, 2);
+  }
+};
+
+TEST(PoseTrackerRelocalization, DecoyAroundTheLastPoseIsTrackedAtTheNormalThreshold) {
+  DecoyScene s;
+  PoseTracker tracker(s.cam, s.params);
+  const PoseTrackingResult r = tracker.trackLocalMap(s.cur, s.T_pred, &s.map);
+  ASSERT_TRUE(r.tracked) << "the decoy alone passes min_tracking_inliers (" << s.params.min_tracking_inliers << ")";
+  EXPECT_FALSE(r.used_pnp);
+  EXPECT_LT(r.inliers, 50);
+  EXPECT_LT(centreDistance(s.cur.T_c_w, s.T_pred), 0.05) << "the search around the prediction keeps the decoy's pose";
+}
+
+TEST(PoseTrackerRelocalization, StricterFirstRefinementHandsAWeakSearchPoseToPnP) {
+  DecoyScene s;
+  PoseTracker tracker(s.cam, s.params);
+  const PoseTrackingResult r = tracker.trackLocalMap(s.cur, s.T_pred, &s.map, false, 50);
+  ASSERT_TRUE(r.tracked);
+  EXPECT_TRUE(r.used_pnp);
+  EXPECT_GE(r.inliers, 150);
+  EXPECT_LT(centreDistance(s.cur.T_c_w, s.T_true), 0.01) << "brute force + PnP finds the true pose";
+}
+
+TEST(PoseTrackerRelocalization, StricterFirstRefinementKeepsAStrongSearchPose) {
+  DecoyScene s;
+  PoseTracker tracker(s.cam, s.params);
+  // Predicted at the true pose: the search finds every point, no PnP.
+  const PoseTrackingResult r = tracker.trackLocalMap(s.cur, s.T_true, &s.map, false, 50);
+  ASSERT_TRUE(r.tracked);
+  EXPECT_FALSE(r.used_pnp);
+  EXPECT_LT(centreDistance(s.cur.T_c_w, s.T_true), 0.01);
+}
+
+}  // namespace
+}  // namespace iraf_vo
