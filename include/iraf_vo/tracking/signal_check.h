@@ -8,7 +8,8 @@
 // SNR 0.8"), gives no pose, and neither counts towards the reset nor touches the map, the mapper or the
 // initializer. When the light returns the tracker relocalizes in the map it kept (same scale, same world frame):
 // the pose tracker's projection search around the last pose (normal, then wide window, then brute-force matching
-// against all map points + PnP), then the keyframe-wise Relocalizer (relocalizer.h). Within
+// against all map points + PnP; a pose from the search needs Relocalizer::kMinAcceptedInliers before its narrow
+// re-search, else the PnP decides), then the keyframe-wise Relocalizer (relocalizer.h). Within
 // dark_relocalization_frames frames after the last dark one a loss resets the map only after that many
 // consecutive lost frames (instead of lost_frames_before_reset).
 #pragma once
