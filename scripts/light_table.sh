@@ -6,7 +6,7 @@
 #   scripts/light_table.sh [--out DIR] [--sims DIR] [--bin DIR] [--frames N] [--seeds "0 11"]
 #                          [--presets "night ae_hunting ..."] [--cameras "pinhole fisheye"]
 #                          [--modes "iraf baseline he clahe"] [--sync] [--euroc DIR [--euroc-seeds "1"]]
-#                          [--no-sims] [-- iraf_vo_run args]
+#                          [--no-sims] [--stereo] [-- iraf_vo_run args]
 #
 # --euroc DIR: also the real EuRoC frames 0-305 of DIR (ASL, with groundtruth/groundtruth_tum_cam0.txt) passed
 # through the camera model with each preset as an iraf_vo_degrade profile (--seed per --euroc-seeds; cached in
@@ -14,8 +14,12 @@
 # --sims: where the simulated sequences are cached (DIR/P_C_sS, rendered once with iraf_vo_simulate --threads 1;
 # default OUT/sims). --bin: folder with iraf_vo_run / iraf_vo_simulate (default: this checkout's build).
 # --sync: --set tracker.mapping_thread=false (deterministic up to floating point).
-# Output: OUT/results.csv (preset,camera,seed,mode,ate_mm,lost_events,resets,tracked,frames) and OUT/table.md
-# (printed): ATE [mm] (lost events) per sequence and mode, iraf / best other, the rule's verdict.
+# --stereo: stereo VO (iraf_vo_run --stereo) on stereo renders of the sims (cached as P_C_sS_stereo) and on the
+# EuRoC copies' cam1 (frames 0-305 all have one); the table compares the SE(3) ATE and adds the metric check:
+# iraf within 0.5 % of the path and its Sim(3) scale within 1 % of 1.
+# Output: OUT/results.csv (preset,camera,seed,mode,ate_mm,lost_events,resets,tracked,frames,se3_mm,scale,path_m)
+# and OUT/table.md (printed): ATE [mm] (lost events) per sequence and mode (Sim(3); SE(3) with --stereo), iraf /
+# best other, the rule's verdict.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 repo="$(cd "$here/.." && pwd)"
@@ -30,6 +34,7 @@ modes="iraf baseline he clahe"
 euroc=""
 euroc_seeds="1"
 with_sims=1
+stereo=0
 declare -a extra=()
 die() { echo "light_table.sh: $*" >&2; exit 2; }
 need() { [[ $# -ge 2 && -n "$2" ]] || die "$1 needs a value"; }
@@ -47,6 +52,7 @@ while [[ $# -gt 0 ]]; do
     --euroc) need "$@"; euroc="$2"; shift 2 ;;
     --euroc-seeds) need "$@"; euroc_seeds="$2"; shift 2 ;;
     --no-sims) with_sims=0; shift ;;
+    --stereo) stereo=1; shift ;;
     --sync) extra+=(--set tracker.mapping_thread=false); shift ;;
     --) shift; extra+=("$@"); break ;;
     *) die "unknown argument '$1' (see --help)" ;;
@@ -70,7 +76,9 @@ for t in iraf_vo_run iraf_vo_simulate iraf_vo_degrade; do [[ -x "$bin/$t" ]] || 
 export PATH=/usr/bin:$PATH
 mkdir -p "$out/runs" "$sims"
 csv="$out/results.csv"
-echo "preset,camera,seed,mode,ate_mm,lost_events,resets,tracked,frames" > "$csv"
+echo "preset,camera,seed,mode,ate_mm,lost_events,resets,tracked,frames,se3_mm,scale,path_m" > "$csv"
+declare -a vo_args=()
+[[ $stereo == 0 ]] || vo_args=(--stereo)
 t0=$(date +%s)
 log() { printf '[%4ds] %s\n' $(( $(date +%s) - t0 )) "$*" >&2; }
 
@@ -81,13 +89,16 @@ run_modes() {
   for m in $modes; do
     r="$out/runs/${p}_${c}_s$s.$m"
     "$bin/iraf_vo_run" --dataset "$d" --mode "$m" --gt "$gt" --out "$r.txt" --stats "$r.json" "$@" \
-      ${extra[@]+"${extra[@]}"} > "$r.log" 2>&1 || { log "iraf_vo_run failed on $p $c seed $s $m (see $r.log)"; continue; }
-    /usr/bin/python3 - "$r.json" "$p" "$c" "$s" "$m" >> "$csv" <<'EOF'
-import json, sys
+      ${vo_args[@]+"${vo_args[@]}"} ${extra[@]+"${extra[@]}"} > "$r.log" 2>&1 \
+      || { log "iraf_vo_run failed on $p $c seed $s $m (see $r.log)"; continue; }
+    /usr/bin/python3 - "$r.json" "$r.log" "$p" "$c" "$s" "$m" >> "$csv" <<'EOF'
+import json, re, sys
 j = json.load(open(sys.argv[1]))
-ate = j.get("ate_rmse")
-print(",".join(sys.argv[2:6] + ["%.1f" % (1000 * ate) if ate is not None else "nan",
-                                 str(j["lost_events"]), str(j["resets"]), str(j["tracked"]), str(j["frames"])]))
+path = re.search(r"GT path ([0-9.]+) m", open(sys.argv[2]).read())
+mm = lambda key: "%.1f" % (1000 * j[key]) if j.get(key) is not None else "nan"
+print(",".join(sys.argv[3:7] + [mm("ate_rmse"), str(j["lost_events"]), str(j["resets"]), str(j["tracked"]),
+                                 str(j["frames"]), mm("ate_se3_rmse"), "%.5f" % j.get("ate_scale", float("nan")),
+                                 path.group(1) if path else "nan"]))
 EOF
     log "$p $c seed $s $m: $(tail -1 "$csv")"
   done
@@ -99,11 +110,12 @@ if [[ $with_sims == 1 ]]; then
       for p in $presets; do
         d="$sims/${p}_${c}_s$s"
         [[ $frames == 200 ]] || d="${d}_f$frames"
+        [[ $stereo == 0 ]] || d="${d}_stereo"
         if [[ ! -f "$d.done" ]]; then
           log "simulating $p, $c, seed $s -> $d"
           rm -rf "$d"
           "$bin/iraf_vo_simulate" --preset "$p" --camera "$c" --frames "$frames" --seed "$s" --threads 1 --out "$d" \
-            > "$d.log" 2>&1 || { cat "$d.log" >&2; die "iraf_vo_simulate --preset $p --camera $c --seed $s failed"; }
+            ${vo_args[@]+"${vo_args[@]}"} > "$d.log" 2>&1 || { cat "$d.log" >&2; die "iraf_vo_simulate --preset $p --camera $c --seed $s failed"; }
           touch "$d.done"
         fi
         run_modes "$p" "$c" "$s" "$d" "$d/groundtruth.txt"
@@ -127,9 +139,11 @@ if [[ -n "$euroc" ]]; then
   done
 fi
 
-/usr/bin/python3 - "$csv" > "$out/table.md" <<'EOF'
+/usr/bin/python3 - "$csv" "$stereo" > "$out/table.md" <<'EOF'
 import csv, collections, math, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
+stereo = sys.argv[2] == "1"
+key = "se3_mm" if stereo else "ate_mm"  # stereo: the metric (SE(3)-aligned) ATE
 seqs = collections.OrderedDict()
 for r in rows:
     seqs.setdefault((r["preset"], r["camera"], r["seed"]), {})[r["mode"]] = r
@@ -137,13 +151,14 @@ modes = []
 for r in rows:
     if r["mode"] not in modes:
         modes.append(r["mode"])
-print("| sequence | " + " | ".join(modes) + " | iraf / best other | iraf / baseline | rule |")
-print("|---|" + "---|" * (len(modes) + 3))
-ok = total = 0
+print("| sequence | " + " | ".join(modes) + " | iraf / best other | iraf / baseline | rule |" +
+      (" iraf % of path / scale | metric |" if stereo else ""))
+print("|---|" + "---|" * (len(modes) + 3 + (2 if stereo else 0)))
+ok = total = metric_ok = 0
 for (p, c, s), by in seqs.items():
-    cell = lambda m: "%s (%s)" % (by[m]["ate_mm"], by[m]["lost_events"]) if m in by else "-"
+    cell = lambda m: "%s (%s)" % (by[m][key], by[m]["lost_events"]) if m in by else "-"
     line = "| %s, %s, seed %s | " % (p, c, s) + " | ".join(cell(m) for m in modes)
-    ate = lambda m: float(by[m]["ate_mm"]) if m in by else math.nan
+    ate = lambda m: float(by[m][key]) if m in by else math.nan
     others = [ate(m) for m in ("baseline", "he", "clahe") if m in by and not math.isnan(ate(m))]
     verdict = "-"
     rel = rel_base = math.nan
@@ -157,8 +172,17 @@ for (p, c, s), by in seqs.items():
         verdict = "yes" if good else "**no**"
         ok += good
         total += 1
-    print(line + " | %.2f | %.2f | %s |" % (rel, rel_base, verdict))
+    metric = ""
+    if stereo and "iraf" in by:
+        pct = 0.1 * ate("iraf") / float(by["iraf"]["path_m"])
+        scale = float(by["iraf"]["scale"])
+        good_metric = pct <= 0.5 and abs(scale - 1.0) <= 0.01
+        metric_ok += good_metric
+        metric = " %.3f %% / %.4f | %s |" % (pct, scale, "yes" if good_metric else "**no**")
+    print(line + " | %.2f | %.2f | %s |" % (rel, rel_base, verdict) + metric)
 print()
 print("rule holds on %d of %d sequences" % (ok, total))
+if stereo:
+    print("metric (iraf SE(3) ATE <= 0.5 %% of the path, scale within 1 %%) on %d of %d sequences" % (metric_ok, total))
 EOF
 cat "$out/table.md"
