@@ -113,34 +113,33 @@ struct DecoyScene {
   }
 };
 
+// PoseTracker::trackLocalMap of the scene's frame from T_predicted.
+PoseTrackingResult track(DecoyScene* s, const Eigen::Isometry3d& T_predicted, int min_search_inliers) {
+  PoseTracker tracker(s->cam, s->params);
+  return tracker.trackLocalMap(s->cur, T_predicted, &s->map, false, min_search_inliers);
+}
+
 TEST(PoseTrackerRelocalization, DecoyAroundTheLastPoseIsTrackedAtTheNormalThreshold) {
   DecoyScene s;
-  PoseTracker tracker(s.cam, s.params);
-  const PoseTrackingResult r = tracker.trackLocalMap(s.cur, s.T_pred, &s.map);
+  const PoseTrackingResult r = track(&s, s.T_pred, 0);
   ASSERT_TRUE(r.tracked) << "the decoy alone passes min_tracking_inliers (" << s.params.min_tracking_inliers << ")";
   EXPECT_FALSE(r.used_pnp);
   EXPECT_LT(r.inliers, 50);
   EXPECT_LT(centreDistance(s.cur.T_c_w, s.T_pred), 0.05) << "the search around the prediction keeps the decoy's pose";
 }
 
-TEST(PoseTrackerRelocalization, StricterFirstRefinementHandsAWeakSearchPoseToPnP) {
-  DecoyScene s;
-  PoseTracker tracker(s.cam, s.params);
-  const PoseTrackingResult r = tracker.trackLocalMap(s.cur, s.T_pred, &s.map, false, 50);
-  ASSERT_TRUE(r.tracked);
-  EXPECT_TRUE(r.used_pnp);
-  EXPECT_GE(r.inliers, 150);
-  EXPECT_LT(centreDistance(s.cur.T_c_w, s.T_true), 0.01) << "brute force + PnP finds the true pose";
-}
-
-TEST(PoseTrackerRelocalization, StricterFirstRefinementKeepsAStrongSearchPose) {
-  DecoyScene s;
-  PoseTracker tracker(s.cam, s.params);
-  // Predicted at the true pose: the search finds every point, no PnP.
-  const PoseTrackingResult r = tracker.trackLocalMap(s.cur, s.T_true, &s.map, false, 50);
-  ASSERT_TRUE(r.tracked);
-  EXPECT_FALSE(r.used_pnp);
-  EXPECT_LT(centreDistance(s.cur.T_c_w, s.T_true), 0.01);
+TEST(PoseTrackerRelocalization, StricterFirstRefinementHandsOnlyAWeakSearchPoseToPnP) {
+  DecoyScene weak, strong;
+  const PoseTrackingResult from_decoy = track(&weak, weak.T_pred, 50);
+  ASSERT_TRUE(from_decoy.tracked);
+  EXPECT_TRUE(from_decoy.used_pnp);
+  EXPECT_GE(from_decoy.inliers, 150);
+  EXPECT_LT(centreDistance(weak.cur.T_c_w, weak.T_true), 0.01) << "brute force + PnP finds the true pose";
+  // Predicted at the true pose: the search finds every point and keeps its pose, no PnP.
+  const PoseTrackingResult from_truth = track(&strong, strong.T_true, 50);
+  ASSERT_TRUE(from_truth.tracked);
+  EXPECT_FALSE(from_truth.used_pnp);
+  EXPECT_LT(centreDistance(strong.cur.T_c_w, strong.T_true), 0.01);
 }
 
 }  // namespace
