@@ -67,14 +67,32 @@ PoseTrackingResult PoseTracker::trackLocalMap(Frame& cur, const Eigen::Isometry3
   res.matches = n;
   res.inliers = inliers;
   if (inliers < p_.min_tracking_inliers) return res;
-  // Second, narrow pass with the refined pose.
-  t0 = SteadyClock::now();
-  matcher_.searchByProjection(cur, T, local, p_.search_radius_refine_px, 1, &matches, &visible);
-  res.ms_match += msSince(t0);
-  t0 = SteadyClock::now();
-  res.refine_matches = matches.size();
-  res.inliers = refinePose(cur, local, &matches, &T, &res.right_inliers);
-  res.ms_pose += msSince(t0);
+  narrowPass(cur, local, &matches, &T, &visible, &res);
+  if (min_search_inliers > 0 && !res.used_pnp) {
+    // A relocalization from the search around T_predicted: the prior-free brute force + PnP pose competes.
+    t0 = SteadyClock::now();
+    MatchSet pnp_matches(cur.size(), local.size());
+    Eigen::Isometry3d T_pnp = T;
+    int pnp_inliers = relocalize(cur, local, &pnp_matches, &T_pnp);
+    if (pnp_inliers >= p_.min_tracking_inliers) pnp_inliers = refinePose(cur, local, &pnp_matches, &T_pnp);
+    res.ms_match += msSince(t0);
+    if (pnp_inliers >= p_.min_tracking_inliers) {
+      std::vector<char> pnp_visible(local.size(), 0);
+      PoseTrackingResult pnp;
+      narrowPass(cur, local, &pnp_matches, &T_pnp, &pnp_visible, &pnp);
+      res.ms_match += pnp.ms_match;
+      res.ms_pose += pnp.ms_pose;
+      if (pnp.inliers > res.inliers) {
+        matches = std::move(pnp_matches);
+        T = T_pnp;
+        visible = std::move(pnp_visible);
+        res.used_pnp = true;
+        res.refine_matches = pnp.refine_matches;
+        res.inliers = pnp.inliers;
+        res.right_inliers = pnp.right_inliers;
+      }
+    }
+  }
   if (res.inliers < p_.min_tracking_inliers) return res;
   describeInliers(cur, local, matches, T, &res);
 
@@ -94,6 +112,17 @@ PoseTrackingResult PoseTracker::trackLocalMap(Frame& cur, const Eigen::Isometry3
     res.has_median_depth = true;
   }
   return res;
+}
+
+void PoseTracker::narrowPass(const Frame& f, const std::vector<LocalPoint>& local, MatchSet* matches,
+                             Eigen::Isometry3d* T, std::vector<char>* visible, PoseTrackingResult* res) const {
+  auto t0 = SteadyClock::now();
+  matcher_.searchByProjection(f, *T, local, p_.search_radius_refine_px, 1, matches, visible);
+  res->ms_match += msSince(t0);
+  t0 = SteadyClock::now();
+  res->refine_matches = matches->size();
+  res->inliers = refinePose(f, local, matches, T, &res->right_inliers);
+  res->ms_pose += msSince(t0);
 }
 
 int PoseTracker::refineWithRight(Frame& cur, const Map& map) const {

@@ -1,7 +1,7 @@
 // The pose tracker's relocalization path on a hand-built map: a projection search around a wrong prediction that
-// finds a small self-consistent set of matches (a decoy) keeps the wrong pose under the normal tracking threshold,
-// and with a stricter first refinement (min_search_inliers, as after darkness) the brute force + PnP finds the true
-// pose instead.
+// finds a small self-consistent set of matches (a decoy) keeps the wrong pose under the normal tracking threshold;
+// as a relocalization (min_search_inliers, after darkness) a decoy below that minimum is handed to the brute force
+// + PnP, and one above it loses to the PnP pose, which ends with more inliers.
 #include "iraf_vo/tracking/map.h"
 #include "iraf_vo/tracking/pose_tracker.h"
 #include "unit/tracking_test_utils.h"
@@ -69,9 +69,9 @@ struct DecoyScene {
   Frame cur;
 
   // 300 points 3-6 m ahead, mapped from two keyframes 10 cm apart; the camera is now 0.8 m to the side of the
-  // prediction (the last pose). The frame sees every point where it is, plus 35 decoy keypoints placed where 35
-  // map points project from the prediction, with those points' descriptors (4 bits off).
-  DecoyScene() {
+  // prediction (the last pose). The frame sees every point where it is, plus `n_decoys` decoy keypoints placed
+  // where as many map points project from the prediction, with those points' descriptors (4 bits off).
+  explicit DecoyScene(size_t n_decoys = 35) {
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> ux(-4.0, 4.0), uy(-2.5, 2.5), uz(3.0, 6.0);
     std::uniform_int_distribution<int> ub(0, 255);
@@ -106,7 +106,7 @@ struct DecoyScene {
     View now;
     addPoints(cam, T_true, P, D, all, 0, &now);
     std::vector<int> decoys;
-    for (int i = 0; i < 300 && decoys.size() < 35; i += 7)
+    for (int i = 0; i < 300 && decoys.size() < n_decoys; i += 3)
       if (v1.keypoint_of_point[i] >= 0) decoys.push_back(i);
     addPoints(cam, T_pred, P, D, decoys, 4, &now);
     cur = toFrame(cam, now, 2);
@@ -140,6 +140,21 @@ TEST(PoseTrackerRelocalization, StricterFirstRefinementHandsOnlyAWeakSearchPoseT
   ASSERT_TRUE(from_truth.tracked);
   EXPECT_FALSE(from_truth.used_pnp);
   EXPECT_LT(centreDistance(strong.cur.T_c_w, strong.T_true), 0.01);
+}
+
+TEST(PoseTrackerRelocalization, SearchPoseAboveTheMinimumLosesToAStrongerPnPPose) {
+  DecoyScene s(70);
+  const PoseTrackingResult normal = track(&s, s.T_pred, 0);
+  ASSERT_TRUE(normal.tracked);
+  EXPECT_FALSE(normal.used_pnp);
+  EXPECT_GE(normal.inliers, 60) << "the decoy passes the relocalization minimum on its own";
+  EXPECT_LT(centreDistance(s.cur.T_c_w, s.T_pred), 0.05);
+  DecoyScene r(70);
+  const PoseTrackingResult reloc = track(&r, r.T_pred, 50);
+  ASSERT_TRUE(reloc.tracked);
+  EXPECT_TRUE(reloc.used_pnp);
+  EXPECT_GT(reloc.inliers, normal.inliers);
+  EXPECT_LT(centreDistance(r.cur.T_c_w, r.T_true), 0.01) << "the PnP pose has more inliers and is kept";
 }
 
 }  // namespace

@@ -4,10 +4,11 @@
 // if still too few inliers: relocalization (brute force against the map points + PnP RANSAC) -> pose-only
 // refinement (Huber, chi2 5.991 outlier rejection) -> a second, narrow projection search
 // (search_radius_refine_px) with the refined pose -> refinement again. Tracked iff inliers >=
-// min_tracking_inliers. Without a motion model on a metric map the brute force + PnP comes first. A stricter
-// first refinement (min_search_inliers, relocalization after darkness) sends a weak projection-search pose to the
-// brute force + PnP instead: the narrow search around a pose collects the matches that agree with it, so only
-// the first pass's inliers are evidence independent of that pose. Stereo
+// min_tracking_inliers. Without a motion model on a metric map the brute force + PnP comes first. A relocalization
+// (min_search_inliers > 0, after darkness) sends a weak projection-search pose to the brute force + PnP instead
+// (the narrow search around a pose collects the matches that agree with it, so only the first pass's inliers are
+// evidence independent of that pose), and a search pose that passes competes with the brute force + PnP pose:
+// the one with more inliers after its narrow pass is kept. Stereo
 // (setStereo): the refinements add a right-image residual for each matched keypoint with a left-right match
 // (Frame::right_obs). ROS-free.
 #pragma once
@@ -45,8 +46,9 @@ class PoseTracker {
   /// Tracks `cur` against the map starting from T_predicted. On success sets cur.T_c_w and cur.point_id and
   /// counts the map points' visibility. prediction_unknown (no motion model, e.g. the frame after a stereo start):
   /// brute force + PnP against the local map first, the projection search around T_predicted only if that fails.
-  /// min_search_inliers: inliers the pose refined from the projection search needs before the narrow search
-  /// (fewer: brute force + PnP decides); at least min_tracking_inliers.
+  /// min_search_inliers > 0 (a relocalization): inliers the pose refined from the projection search needs before
+  /// the narrow search (fewer: brute force + PnP decides; at least min_tracking_inliers); a search pose that has
+  /// them is kept only if it ends with more inliers than the brute force + PnP pose.
   PoseTrackingResult trackLocalMap(Frame& cur, const Eigen::Isometry3d& T_predicted, Map* map,
                                    bool prediction_unknown = false, int min_search_inliers = 0) const;
   /// Stereo: refines the tracked cur.T_c_w again with the right residuals of cur.right_obs (matched after the
@@ -67,6 +69,10 @@ class PoseTracker {
   /// 0 (matches and T untouched) below min_inliers (<= 0: min_tracking_inliers).
   int relocalize(const Frame& f, const std::vector<LocalPoint>& local, MatchSet* matches, Eigen::Isometry3d* T,
                  int min_inliers = 0) const;
+  /// The second, narrow projection search around *T and the refinement again: *matches, *T, *visible, the
+  /// matches entering the refinement, its inliers and right inliers, the time of both into *res.
+  void narrowPass(const Frame& f, const std::vector<LocalPoint>& local, MatchSet* matches, Eigen::Isometry3d* T,
+                  std::vector<char>* visible, PoseTrackingResult* res) const;
   /// Whether the projection search finds more matches around T_a than around T_b.
   bool searchesMore(const Frame& f, const std::vector<LocalPoint>& local, const Eigen::Isometry3d& T_a,
                     const Eigen::Isometry3d& T_b) const;
