@@ -53,30 +53,17 @@ PoseTrackingResult PoseTracker::trackLocalMap(Frame& cur, const Eigen::Isometry3
   }
   // A pose from PnP needs min_tracking_inliers; one from the projection search around T_predicted may need more.
   const int search_needs = std::max(p_.min_tracking_inliers, min_search_inliers);
-  if (inliers < (res.used_pnp ? p_.min_tracking_inliers : search_needs)) {
-    t0 = SteadyClock::now();
-    inliers = relocalize(cur, local, &matches, &T);
-    res.used_pnp = inliers > 0;
-    res.ms_match += msSince(t0);
-    if (inliers >= p_.min_tracking_inliers) {
-      t0 = SteadyClock::now();
-      inliers = refinePose(cur, local, &matches, &T);
-      res.ms_pose += msSince(t0);
-    }
-  }
+  if (inliers < (res.used_pnp ? p_.min_tracking_inliers : search_needs))
+    inliers = pnpPose(cur, local, &matches, &T, &res, &res.used_pnp);
   res.matches = n;
   res.inliers = inliers;
   if (inliers < p_.min_tracking_inliers) return res;
   narrowPass(cur, local, &matches, &T, &visible, &res);
   if (min_search_inliers > 0 && !res.used_pnp) {
     // A relocalization from the search around T_predicted: the prior-free brute force + PnP pose competes.
-    t0 = SteadyClock::now();
     MatchSet pnp_matches(cur.size(), local.size());
     Eigen::Isometry3d T_pnp = T;
-    int pnp_inliers = relocalize(cur, local, &pnp_matches, &T_pnp);
-    if (pnp_inliers >= p_.min_tracking_inliers) pnp_inliers = refinePose(cur, local, &pnp_matches, &T_pnp);
-    res.ms_match += msSince(t0);
-    if (pnp_inliers >= p_.min_tracking_inliers) {
+    if (pnpPose(cur, local, &pnp_matches, &T_pnp, &res) >= p_.min_tracking_inliers) {
       std::vector<char> pnp_visible(local.size(), 0);
       PoseTrackingResult pnp;
       narrowPass(cur, local, &pnp_matches, &T_pnp, &pnp_visible, &pnp);
@@ -112,6 +99,20 @@ PoseTrackingResult PoseTracker::trackLocalMap(Frame& cur, const Eigen::Isometry3
     res.has_median_depth = true;
   }
   return res;
+}
+
+int PoseTracker::pnpPose(const Frame& f, const std::vector<LocalPoint>& local, MatchSet* matches,
+                         Eigen::Isometry3d* T, PoseTrackingResult* timing, bool* found) const {
+  auto t0 = SteadyClock::now();
+  int inliers = relocalize(f, local, matches, T);
+  if (found) *found = inliers > 0;
+  timing->ms_match += msSince(t0);
+  if (inliers >= p_.min_tracking_inliers) {
+    t0 = SteadyClock::now();
+    inliers = refinePose(f, local, matches, T);
+    timing->ms_pose += msSince(t0);
+  }
+  return inliers;
 }
 
 void PoseTracker::narrowPass(const Frame& f, const std::vector<LocalPoint>& local, MatchSet* matches,

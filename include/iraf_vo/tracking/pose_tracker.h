@@ -69,6 +69,10 @@ class PoseTracker {
   /// 0 (matches and T untouched) below min_inliers (<= 0: min_tracking_inliers).
   int relocalize(const Frame& f, const std::vector<LocalPoint>& local, MatchSet* matches, Eigen::Isometry3d* T,
                  int min_inliers = 0) const;
+  /// relocalize, then the pose refinement when it has min_tracking_inliers: returns the inliers (0: no PnP pose);
+  /// *found (optional): whether the PnP gave a pose; its time into *timing.
+  int pnpPose(const Frame& f, const std::vector<LocalPoint>& local, MatchSet* matches, Eigen::Isometry3d* T,
+              PoseTrackingResult* timing, bool* found = nullptr) const;
   /// The second, narrow projection search around *T and the refinement again: *matches, *T, *visible, the
   /// matches entering the refinement, its inliers and right inliers, the time of both into *res.
   void narrowPass(const Frame& f, const std::vector<LocalPoint>& local, MatchSet* matches, Eigen::Isometry3d* T,
