@@ -11,6 +11,7 @@
 #include <iterator>
 
 #include "common/run_command.h"
+#include "common/text_file.h"
 #include "common/tmp_dir.h"
 #include "iraf_vo/pipeline/frame_source.h"
 #include "iraf_vo/pipeline/offline_pipeline.h"
@@ -165,13 +166,8 @@ TEST(StereoOffline, LightSwitchOnEuRocRelocalizesAtTheTruePose) {
                                     "/groundtruth/groundtruth_tum_cam0.txt " + dir + "/t.txt",
                                 &out))
       << out;
-  std::ifstream js(dir + "/eval.json");
-  const std::string json((std::istreambuf_iterator<char>(js)), std::istreambuf_iterator<char>());
-  auto number = [&json](const std::string& key) {
-    const size_t k = json.find("\"" + key + "\":");
-    return k == std::string::npos ? -1.0 : std::atof(json.c_str() + k + key.size() + 3);
-  };
-  EXPECT_GT(number("se3_ate_rmse"), 0.0) << json;
-  EXPECT_LT(number("se3_ate_rmse"), 0.008) << json;
-  EXPECT_NEAR(number("sim3_scale"), 1.0, 0.02) << json;
+  const std::string json = test::readTextFile(dir + "/eval.json");
+  EXPECT_GT(test::jsonNumber(json, "se3_ate_rmse"), 0.0) << json;
+  EXPECT_LT(test::jsonNumber(json, "se3_ate_rmse"), 0.008) << json;
+  EXPECT_NEAR(test::jsonNumber(json, "sim3_scale"), 1.0, 0.02) << json;
 }

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "common/run_command.h"
+#include "common/text_file.h"
 #include "common/tmp_dir.h"
 #include "iraf_vo/eval/trajectory_eval.h"
 #include "iraf_vo/features/image_signal.h"
@@ -36,6 +37,8 @@ bool exists(const std::string& p) {
   return stat(p.c_str(), &st) == 0;
 }
 
+using iraf_vo::test::jsonNumber;
+using iraf_vo::test::readTextFile;
 using iraf_vo::test::runCommand;
 
 // A random texture with the falling spectrum of natural images: blobs of ~32, ~16 and ~8 px, grey levels about
@@ -195,18 +198,6 @@ void darkRange(const std::map<long, FrameRow>& rows, long* first, long* last) {
   }
 }
 
-double jsonNumber(const std::string& json, const std::string& key) {
-  const size_t k = json.find("\"" + key + "\":");
-  return k == std::string::npos ? -1.0 : std::atof(json.c_str() + k + key.size() + 3);
-}
-
-std::string readAll(const std::string& path) {
-  std::ifstream f(path);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
-
 // Sim(3) evaluation of the poses of `est` with stamps in [t0, t1).
 iraf_vo::EvalResult evaluate(const iraf_vo::Trajectory& gt, const iraf_vo::Trajectory& est, double t0, double t1) {
   iraf_vo::Trajectory part;
@@ -267,7 +258,7 @@ void expectBlackoutRelocalizes(const std::string& name, const std::string& sim_a
     if (rows.at(i).state == "tracking") resumed = i;
   EXPECT_GT(resumed, last_no_signal);
   EXPECT_LE(resumed, last_dark + 10) << "tracking resumed at frame " << resumed;
-  const std::string stats = readAll(seq + "/stats.json");
+  const std::string stats = readTextFile(seq + "/stats.json");
   EXPECT_EQ(jsonNumber(stats, "dark_frames"), static_cast<double>(no_signal_frames)) << stats;
   EXPECT_EQ(jsonNumber(stats, "resets"), 0.0) << stats;
   EXPECT_EQ(jsonNumber(stats, "relocalizations"), 1.0) << stats;
@@ -325,7 +316,7 @@ TEST(TrackingDarkness, AViewSeenFromFarAwayIsNoRelocalization) {
   const iraf_vo::EvalResult before = evaluate(gt, est, 0.0, t_dark);
   ASSERT_GT(before.gt_length, 0.8);
   ASSERT_LE(before.ate.rmse, 0.01 * before.gt_length);
-  const std::string stats = readAll(seq + "/stats.json");
+  const std::string stats = readTextFile(seq + "/stats.json");
   const double relocalizations = jsonNumber(stats, "relocalizations"), resets = jsonNumber(stats, "resets");
   EXPECT_EQ(relocalizations + resets, 1.0) << stats;
   if (relocalizations != 1.0) return;  // a new map: its poses are in a new frame
@@ -361,7 +352,7 @@ TEST(TrackingDarkness, WashedOutFramesAfterTheLightReturnsKeepTheMap) {
     EXPECT_EQ(row.state, "lost") << "frame " << i;
   }
   EXPECT_GE(washed_out, 6);
-  const std::string stats = readAll(seq + "/stats.json");
+  const std::string stats = readTextFile(seq + "/stats.json");
   EXPECT_EQ(jsonNumber(stats, "resets"), 0.0) << stats;
   EXPECT_EQ(jsonNumber(stats, "relocalizations"), 2.0) << stats;
   iraf_vo::Trajectory gt, est;
@@ -384,7 +375,7 @@ TEST(TrackingDarkness, DimSequenceRaisesNoAlarm) {
                        &out),
             0)
       << out;
-  const std::string stats = readAll(seq + "/stats.json");
+  const std::string stats = readTextFile(seq + "/stats.json");
   EXPECT_EQ(jsonNumber(stats, "dark_frames"), 0.0) << stats;
   EXPECT_GE(jsonNumber(stats, "tracked_pct"), 90.0) << stats;
 }
