@@ -3,6 +3,7 @@
 #include "iraf_vo/tracking/two_view.h"
 
 #include "iraf_vo/tracking/bundle_adjustment.h"
+#include "iraf_vo/tracking/geometry.h"
 #include "iraf_vo/tracking/multiview.h"
 #include "iraf_vo/tracking/two_view_ambiguity.h"
 
@@ -264,6 +265,23 @@ const Hypothesis* selectHypothesis(std::vector<Hypothesis>* hyps, const TwoViewP
   return &best;
 }
 
+// Whether a homography hypothesis's motion explains the matches the essential matrix holds off the plane (its
+// inliers that are not the homography's): most of them, as the true decomposition of a plane in a scene with
+// depth does. The other decomposition of the pair maps the plane just as well but puts the camera on another path
+// (on a road: moving up or sideways instead of forward, with a spurious parallax that passes the checks).
+bool explainsOffPlaneMatches(const Hypothesis& h, const TwoViewModels& models, const ForwardMatches& m, double focal,
+                             double threshold_px) {
+  std::vector<char> inl;
+  scoreEssential(skew(h.t) * h.R, m.p1, m.p2, focal, threshold_px, &inl);
+  int off_plane = 0, explained = 0;
+  for (size_t i = 0; i < inl.size(); ++i) {
+    if (!models.inliers_e[i] || models.inliers_h[i]) continue;
+    ++off_plane;
+    explained += inl[i];
+  }
+  return 2 * explained >= off_plane;
+}
+
 // Gold-standard refinement: two-view BA on the triangulated inliers (frame 1 fixed; the scale gauge is fixed
 // afterwards by normalizing |t| = 1). Writes R_21, t_21 and the points that pass cheirality and chi2.
 void refineTwoView(const Hypothesis& best, const ForwardMatches& m, double focal, const TwoViewParams& params,
@@ -387,6 +405,12 @@ TwoViewResult initializeTwoView(const std::vector<Eigen::Vector3d>& b1, const st
     other.model = use_h ? "essential" : "homography";
     other_hyps = poseHypotheses(models, !use_h, m, focal, params);
     best = selectHypothesis(&other_hyps, params, false, &other);
+    // The essential matrix scored higher (R_H below the ratio): the scene has depth off the homography's plane,
+    // and a decomposition that contradicts it is the wrong one of its pair.
+    if (best && !use_h && !explainsOffPlaneMatches(*best, models, m, focal, params.threshold_px)) {
+      other.reason = "homography: its motion contradicts the essential matrix's off-plane inliers";
+      best = nullptr;
+    }
     if (best) {
       res = other;
     } else {

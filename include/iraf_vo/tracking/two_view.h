@@ -25,7 +25,8 @@ struct TwoViewParams {
   double max_rotation_inlier_ratio = 0.95;
   double homography_ratio = 0.45;  // R_H = S_H / (S_H + S_F) above this -> homography (ORB-SLAM)
   double model_fallback_margin = 0.1;  // |R_H - homography_ratio| below this and the chosen model fails its
-                                       // checks -> the other model is tried (0 = never)
+                                       // checks -> the other model is tried (0 = never); a homography tried so
+                                       // must explain most of the essential matrix's off-plane inliers
   // Essential-matrix motions: refused while a translation direction >= ambiguity_angle_deg away explains the
   // matches about as well (profile chi2 < ambiguity_max_chi2, two_view_ambiguity.h); 0 = no check.
   double ambiguity_max_chi2 = 9.21;
