@@ -268,7 +268,7 @@ const Hypothesis* selectHypothesis(std::vector<Hypothesis>* hyps, const TwoViewP
 // Whether a homography hypothesis's motion explains the matches the essential matrix holds off the plane (its
 // inliers that are not the homography's): most of them, as the true decomposition of a plane in a scene with
 // depth does. The other decomposition of the pair maps the plane just as well but puts the camera on another path
-// (on a road: moving up or sideways instead of forward, with a spurious parallax that passes the checks).
+// (on a road: moving vertically or sideways instead of forward, with a spurious parallax that passes the checks).
 bool explainsOffPlaneMatches(const Hypothesis& h, const TwoViewModels& models, const ForwardMatches& m, double focal,
                              double threshold_px) {
   std::vector<char> inl;
