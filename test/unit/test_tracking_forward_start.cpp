@@ -117,9 +117,10 @@ StartResult runStart(MotionKind motion, uint64_t seed, int frames, double static
             res.first_tracked = index;
             res.first_span_over_depth = keyframeSpanOverDepth(tracker, r.T_w_c.inverse());
             const std::vector<KeyframePose> kfs = tracker.keyframePoses();
-            if (!kfs.empty()) res.first_centre = kfs.front().T_w_c.inverse() * r.T_w_c.translation();
-            if (!kfs.empty())
+            if (!kfs.empty()) {
+              res.first_centre = kfs.front().T_w_c.inverse() * r.T_w_c.translation();
               res.first_keyframe = static_cast<int>(std::lround((kfs.front().stamp - first_stamp) * sim.rate_hz));
+            }
           } else {
             res.failures.push_back(r.init_status);
           }
