@@ -117,6 +117,7 @@ void LocalMapper::commitPendingBA() {
   }
   if (!done) return;
   applyLocalBA(done->problem, done->summary, map_);
+  promoteCandidates(done->problem);
   recordScaleChange(done->extent_before, done->problem);
 }
 
@@ -139,6 +140,8 @@ void LocalMapper::createNewMapPoints(long kf_id) {
   std::vector<char> used1(kf.keypoints.size(), 0);
   for (size_t i = 0; i < in.point_id.size(); ++i) used1[i] = in.point_id[i] >= 0 || !kf.valid[i];
   const double cos_min_parallax = std::cos(p_.min_triangulation_parallax_deg * M_PI / 180.0);
+  const double cos_candidate_parallax =
+      std::cos(p_.candidate_parallax_ratio * p_.min_triangulation_parallax_deg * M_PI / 180.0);
   for (TriangulationNeighbor& nb : in.neighbors) {
     const Eigen::Vector3d c2 = nb.T_c_w.inverse().translation();
     if ((c2 - c1).norm() / in.median_depth < 0.01) continue;  // baseline too small
@@ -150,7 +153,8 @@ void LocalMapper::createNewMapPoints(long kf_id) {
       Eigen::Vector3d X;
       if (!triangulateBearings(T1, kf.bearings[i], nb.T_c_w, kf2.bearings[j], &X)) continue;
       const Eigen::Vector3d r1 = (X - c1).normalized(), r2 = (X - c2).normalized();
-      if (r1.dot(r2) > cos_min_parallax) continue;
+      const bool candidate = r1.dot(r2) > cos_min_parallax;
+      if (candidate && r1.dot(r2) > cos_candidate_parallax) continue;
       const cv::KeyPoint& kp1 = kf.keypoints[i];
       const cv::KeyPoint& kp2 = kf2.keypoints[j];
       const double s1 = kf.sigma(kp1.octave), s2 = kf2.sigma(kp2.octave);
@@ -160,7 +164,7 @@ void LocalMapper::createNewMapPoints(long kf_id) {
       if (e1 < 0 || e2 < 0 || e1 > kChi2TwoDof * s1 * s1 || e2 > kChi2TwoDof * s2 * s2) continue;
       used1[i] = 1;
       nb.point_id[j] = -2;  // taken
-      created.push_back({X, kf_id, i, kf2.id, static_cast<int>(j)});
+      created.push_back({X, kf_id, i, kf2.id, static_cast<int>(j), candidate});
     }
   }
   map_->addTriangulatedPoints(created);
@@ -217,7 +221,13 @@ void LocalMapper::localBundleAdjustment() {
   }
   auto update = map_->lockUpdates();
   applyLocalBA(prob, summary, map_);
+  promoteCandidates(prob);
   recordScaleChange(before, prob);
+}
+
+void LocalMapper::promoteCandidates(const LocalBAProblem& prob) {
+  if (p_.candidate_parallax_ratio >= 1.0) return;
+  map_->promoteCandidates(prob.point_ids, std::cos(p_.min_triangulation_parallax_deg * M_PI / 180.0));
 }
 
 void LocalMapper::recordScaleChange(double extent_before, const LocalBAProblem& after) {

@@ -129,6 +129,7 @@ std::vector<LocalPoint> Map::localPoints(const CameraModel* camera) const {
 
 LocalPoint Map::localPointLocked(const MapPoint& mp, const CameraModel* camera) const {
   LocalPoint lp{mp.id, mp.p_w, mp.desc, mp.octave, mp.angle};
+  lp.candidate = mp.candidate;
   if (!camera) return lp;  // no scale prediction: no reference (its lookups were ~2 % of the whole VO's CPU)
   for (const auto& [kf_id, kp] : mp.obs) {  // the oldest keyframe in the map that observes the point
     auto kf = keyframes_.find(kf_id);
@@ -204,7 +205,7 @@ int Map::trackedPoints(long kf_id, size_t min_observations, double max_depth, in
   for (long pid : kf.point_id) {
     if (pid < 0) continue;
     auto pt = points_.find(pid);
-    if (pt == points_.end() || pt->second->observations() < min_observations) continue;
+    if (pt == points_.end() || pt->second->observations() < min_observations || pt->second->candidate) continue;
     ++n;
     if (nearer) {
       const double z = (kf.T_c_w * pt->second->p_w).z();
@@ -220,7 +221,7 @@ int Map::pointsNearerThan(const std::vector<long>& ids, const Eigen::Isometry3d&
   for (long pid : ids) {
     if (pid < 0) continue;
     auto pt = points_.find(pid);
-    if (pt == points_.end()) continue;
+    if (pt == points_.end() || pt->second->candidate) continue;
     const double z = (T_c_w * pt->second->p_w).z();
     if (z > 0 && z < max_depth) ++n;
   }
@@ -361,8 +362,33 @@ void Map::addTriangulatedPoints(const std::vector<NewMapPoint>& points) {
     auto kb = keyframes_.find(np.kf_b);
     if (ka == keyframes_.end() || kb == keyframes_.end()) continue;
     if (ka->second->point_id[np.kp_a] >= 0 || kb->second->point_id[np.kp_b] >= 0) continue;
-    recent_points_.push_back(createPointLocked(np.p_w, *ka->second, np.kp_a, *kb->second, np.kp_b));
+    const long id = createPointLocked(np.p_w, *ka->second, np.kp_a, *kb->second, np.kp_b);
+    points_[id]->candidate = np.candidate;
+    recent_points_.push_back(id);
   }
+}
+
+int Map::promoteCandidates(const std::vector<long>& point_ids, double cos_gate) {
+  std::lock_guard<std::mutex> lk(mutex_);
+  int promoted = 0;
+  std::vector<Eigen::Vector3d> rays;
+  for (long pid : point_ids) {
+    auto pt = points_.find(pid);
+    if (pt == points_.end() || !pt->second->candidate) continue;
+    MapPoint& mp = *pt->second;
+    rays.clear();
+    for (const auto& o : mp.obs) {
+      auto kf = keyframes_.find(o.first);
+      if (kf != keyframes_.end()) rays.push_back((mp.p_w - kf->second->T_c_w.inverse().translation()).normalized());
+    }
+    bool wide = false;
+    for (size_t a = 0; a < rays.size() && !wide; ++a)
+      for (size_t b = a + 1; b < rays.size() && !wide; ++b) wide = rays[a].dot(rays[b]) <= cos_gate;
+    if (!wide) continue;
+    mp.candidate = false;
+    ++promoted;
+  }
+  return promoted;
 }
 
 void Map::dropOldKeyframes(int max_keyframes) {

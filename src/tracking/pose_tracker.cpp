@@ -10,6 +10,19 @@
 #include <unordered_map>
 
 namespace iraf_vo {
+namespace {
+
+// Matches of candidate points (MapPoint::candidate): matched and kept, but no pose term.
+int candidateMatches(const MatchSet& matches, const std::vector<LocalPoint>& local) {
+  int n = 0;
+  for (size_t i = 0; i < matches.numKeypoints(); ++i) {
+    const int li = matches.pointOf(static_cast<int>(i));
+    if (li >= 0 && local[static_cast<size_t>(li)].candidate) ++n;
+  }
+  return n;
+}
+
+}  // namespace
 
 PoseTrackingResult PoseTracker::trackLocalMap(Frame& cur, const Eigen::Isometry3d& T_predicted, Map* map,
                                               bool prediction_unknown, int min_search_inliers) const {
@@ -121,7 +134,7 @@ void PoseTracker::narrowPass(const Frame& f, const std::vector<LocalPoint>& loca
   matcher_.searchByProjection(f, *T, local, p_.search_radius_refine_px, 1, matches, visible);
   res->ms_match += msSince(t0);
   t0 = SteadyClock::now();
-  res->refine_matches = matches->size();
+  res->refine_matches = matches->size() - candidateMatches(*matches, local);
   res->inliers = refinePose(f, local, matches, T, &res->right_inliers);
   res->ms_pose += msSince(t0);
 }
@@ -152,7 +165,7 @@ void PoseTracker::describeInliers(const Frame& f, const std::vector<LocalPoint>&
   std::vector<double> sigma, chi2;
   for (size_t i = 0; i < f.size(); ++i) {
     const int li = matches.pointOf(static_cast<int>(i));
-    if (li < 0) continue;
+    if (li < 0 || local[li].candidate) continue;
     P.push_back(local[li].p_w);
     uv.emplace_back(f.keypoints[i].pt.x, f.keypoints[i].pt.y);
     sigma.push_back(f.sigma(f.keypoints[i].octave));
@@ -171,7 +184,7 @@ int PoseTracker::refinePose(const Frame& f, const std::vector<LocalPoint>& local
   std::vector<Eigen::Vector3d> P;
   std::vector<Eigen::Vector2d> uv;
   std::vector<double> sigma;
-  std::vector<int> keypoint;
+  std::vector<int> keypoint, candidates;
   const bool stereo = rig_ && f.right_obs.size() == f.size();
   RightObservations right;
   if (stereo) {
@@ -181,6 +194,10 @@ int PoseTracker::refinePose(const Frame& f, const std::vector<LocalPoint>& local
   for (size_t i = 0; i < f.size(); ++i) {
     const int li = matches->pointOf(static_cast<int>(i));
     if (li < 0) continue;
+    if (local[li].candidate) {
+      candidates.push_back(static_cast<int>(i));
+      continue;
+    }
     P.push_back(local[li].p_w);
     uv.emplace_back(f.keypoints[i].pt.x, f.keypoints[i].pt.y);
     sigma.push_back(f.sigma(f.keypoints[i].octave));
@@ -202,6 +219,13 @@ int PoseTracker::refinePose(const Frame& f, const std::vector<LocalPoint>& local
   *T = T_refined;
   for (size_t k = 0; k < keypoint.size(); ++k)
     if (!inlier[k]) matches->unlinkKeypoint(keypoint[k]);
+  for (int i : candidates) {  // kept (the next keyframe observes them) where the pose reprojects them
+    const cv::KeyPoint& kp = f.keypoints[static_cast<size_t>(i)];
+    const double s = f.sigma(kp.octave);
+    const double e2 = reprojectionError2(cam_, *T, local[static_cast<size_t>(matches->pointOf(i))].p_w,
+                                         Eigen::Vector2d(kp.pt.x, kp.pt.y));
+    if (e2 < 0 || e2 > kChi2TwoDof * s * s) matches->unlinkKeypoint(i);
+  }
   return n;
 }
 
@@ -226,17 +250,21 @@ int PoseTracker::relocalize(const Frame& f, const std::vector<LocalPoint>& local
                                           p_.match_ratio);
   if (static_cast<int>(m.size()) < min_inliers) return 0;
   std::vector<Eigen::Vector3d> P, B;
+  std::vector<std::pair<int, int>> used;  // candidates carry no pose
   for (const auto& x : m) {
+    if (local[x.second].candidate) continue;
+    used.push_back(x);
     P.push_back(local[x.second].p_w);
     B.push_back(f.bearings[x.first]);
   }
+  if (static_cast<int>(used.size()) < min_inliers) return 0;
   std::vector<char> inlier;
   Eigen::Isometry3d T_pnp;
   const int n = solvePnPBearings(P, B, cam_.focal(), p_.pnp_threshold_px, p_.pnp_iterations, &T_pnp, &inlier);
   if (n < min_inliers) return 0;
   matches->clear();
-  for (size_t k = 0; k < m.size(); ++k)
-    if (inlier[k]) matches->link(m[k].first, m[k].second);
+  for (size_t k = 0; k < used.size(); ++k)
+    if (inlier[k]) matches->link(used[k].first, used[k].second);
   *T = T_pnp;
   return n;
 }

@@ -99,6 +99,9 @@ const ParamTable<TrackerParams>& trackerParamTable() {
                    "Covisible keyframes used for new points"),
           doubleParam("min_triangulation_parallax_deg", &P::min_triangulation_parallax_deg, 0.0, 30.0,
                       "Minimum parallax of a new point [deg]"),
+          doubleParam("candidate_parallax_ratio", &P::candidate_parallax_ratio, 0.0, 1.0,
+                      "New points from this x min_triangulation_parallax_deg up to it are candidates: tracked and "
+                      "bundle-adjusted, used for poses once their rays span the gate (1 = off)"),
           doubleParam("triangulation_match_ratio", &P::triangulation_match_ratio, 0.1, 1.0,
                       "New points: best match on the epipolar line < this x the best elsewhere on it (1 = off)"),
           doubleParam("min_found_ratio", &P::min_found_ratio, 0.0, 1.0,

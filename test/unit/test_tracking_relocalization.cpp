@@ -16,44 +16,12 @@ namespace iraf_vo {
 namespace {
 
 using Descriptor = std::array<uint8_t, 32>;
+using View = test::PointView;
 
-struct View {
-  FeatureFrame features;
-  std::vector<int> keypoint_of_point;  // -1: not in the view
-};
-
-// Keypoints (octave 0, no noise) of the points seen from T_c_w, with their descriptors (flip_bits bits changed).
-void addPoints(const CameraModel& cam, const Eigen::Isometry3d& T_c_w, const std::vector<Eigen::Vector3d>& P,
-               const std::vector<Descriptor>& D, const std::vector<int>& ids, int flip_bits, View* v) {
-  FeatureFrame& f = v->features;
-  v->keypoint_of_point.resize(P.size(), -1);
-  for (int i : ids) {
-    Eigen::Vector2d uv;
-    const Eigen::Vector3d pc = T_c_w * P[i];
-    if (pc.z() < 0.1 || !cam.project(pc, &uv)) continue;
-    if (uv.x() < 2 || uv.y() < 2 || uv.x() > cam.width() - 3 || uv.y() > cam.height() - 3) continue;
-    cv::KeyPoint kp(static_cast<float>(uv.x()), static_cast<float>(uv.y()), 31.f);
-    kp.octave = 0;
-    kp.angle = -1.f;
-    kp.response = 1.f;
-    Descriptor d = D[i];
-    for (int b = 0; b < flip_bits; ++b) d[(7 * b + i) % 32] ^= static_cast<uint8_t>(1u << (b % 8));
-    cv::Mat row(1, 32, CV_8U);
-    std::memcpy(row.ptr<uint8_t>(0), d.data(), 32);
-    f.descriptors.push_back(row);
-    v->keypoint_of_point[i] = static_cast<int>(f.keypoints.size());
-    f.keypoints.push_back(kp);
-    f.stability.push_back(1.f);
-  }
-}
-
-Frame toFrame(const CameraModel& cam, View v, long index) {
-  v.features.width = cam.width();
-  v.features.height = cam.height();
-  v.features.stamp = 0.05 * index;
+Frame toFrame(const CameraModel& cam, const View& v, long index) {
   Frame f;
   std::string err;
-  EXPECT_TRUE(Frame::fromFeatures(v.features, cam, index, &f, &err)) << err;
+  EXPECT_TRUE(v.toFrame(cam, index, &f, &err)) << err;
   return f;
 }
 
@@ -89,8 +57,8 @@ struct DecoyScene {
     Eigen::Isometry3d T1 = Eigen::Isometry3d::Identity();
     T1.translation() = Eigen::Vector3d(-0.1, 0, 0);
     View v0, v1;
-    addPoints(cam, T0, P, D, all, 0, &v0);
-    addPoints(cam, T1, P, D, all, 0, &v1);
+    v0.add(cam, T0, P, D, all, 0);
+    v1.add(cam, T1, P, D, all, 0);
     const Frame f0 = toFrame(cam, v0, 0), f1 = toFrame(cam, v1, 1);
     auto kf0 = Keyframe::fromFrame(f0, T0), kf1 = Keyframe::fromFrame(f1, T1);
     std::vector<NewMapPoint> pts;
@@ -104,11 +72,11 @@ struct DecoyScene {
     T_true = T1;
     T_true.translation() = Eigen::Vector3d(-0.9, 0, 0);
     View now;
-    addPoints(cam, T_true, P, D, all, 0, &now);
+    now.add(cam, T_true, P, D, all, 0);
     std::vector<int> decoys;
     for (int i = 0; i < 300 && decoys.size() < n_decoys; i += 3)
       if (v1.keypoint_of_point[i] >= 0) decoys.push_back(i);
-    addPoints(cam, T_pred, P, D, decoys, 4, &now);
+    now.add(cam, T_pred, P, D, decoys, 4);
     cur = toFrame(cam, now, 2);
   }
 };

@@ -6,8 +6,10 @@
 #include <iraf_vo/camera/kannala_brandt.h>
 #include <iraf_vo/camera/pinhole_radtan.h>
 #include <iraf_vo/features/feature_frame.h>
+#include <iraf_vo/tracking/frame.h>
 
 #include <Eigen/Geometry>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -112,6 +114,46 @@ inline double ateRmse(const std::vector<Eigen::Vector3d>& est, const std::vector
   for (int i = 0; i < n; ++i) s += ((S * A.col(i).homogeneous()).head<3>() - B.col(i)).squaredNorm();
   return std::sqrt(s / n);
 }
+
+/// Keypoints of hand-placed map points as one camera sees them (PointView::add), for pose-tracker tests.
+struct PointView {
+  FeatureFrame features;
+  std::vector<int> keypoint_of_point;  // -1: not in the view
+
+  /// Keypoints (octave 0, no noise) of the points `ids` seen from T_c_w, with their descriptors (flip_bits bits
+  /// changed).
+  void add(const CameraModel& cam, const Eigen::Isometry3d& T_c_w, const std::vector<Eigen::Vector3d>& P,
+           const std::vector<std::array<uint8_t, 32>>& D, const std::vector<int>& ids, int flip_bits) {
+    keypoint_of_point.resize(P.size(), -1);
+    for (int i : ids) {
+      Eigen::Vector2d uv;
+      const Eigen::Vector3d pc = T_c_w * P[i];
+      if (pc.z() < 0.1 || !cam.project(pc, &uv)) continue;
+      if (uv.x() < 2 || uv.y() < 2 || uv.x() > cam.width() - 3 || uv.y() > cam.height() - 3) continue;
+      cv::KeyPoint kp(static_cast<float>(uv.x()), static_cast<float>(uv.y()), 31.f);
+      kp.octave = 0;
+      kp.angle = -1.f;
+      kp.response = 1.f;
+      std::array<uint8_t, 32> d = D[i];
+      for (int b = 0; b < flip_bits; ++b) d[(7 * b + i) % 32] ^= static_cast<uint8_t>(1u << (b % 8));
+      cv::Mat row(1, 32, CV_8U);
+      std::memcpy(row.ptr<uint8_t>(0), d.data(), 32);
+      features.descriptors.push_back(row);
+      keypoint_of_point[i] = static_cast<int>(features.keypoints.size());
+      features.keypoints.push_back(kp);
+      features.stability.push_back(1.f);
+    }
+  }
+
+  /// The tracker's frame of these keypoints (false + err: Frame::fromFeatures refused them).
+  bool toFrame(const CameraModel& cam, long index, Frame* f, std::string* err) const {
+    FeatureFrame ff = features;
+    ff.width = cam.width();
+    ff.height = cam.height();
+    ff.stamp = 0.05 * index;
+    return Frame::fromFeatures(ff, cam, index, f, err);
+  }
+};
 
 }  // namespace test
 }  // namespace iraf_vo

@@ -100,6 +100,8 @@ class LocalMapper {
   void fuseMapPoints(long kf_id);
   void commitPendingBA();  // threaded: waits for the running BA and writes its result back
   void localBundleAdjustment();
+  /// Candidate points of the BA's problem whose rays now span the parallax gate join the poses (Map::promoteCandidates).
+  void promoteCandidates(const LocalBAProblem& prob);
   void recordScaleChange(double extent_before, const LocalBAProblem& after);
 
   const CameraModel& cam_;

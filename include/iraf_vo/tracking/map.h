@@ -30,6 +30,8 @@ struct MapPoint {
   std::map<long, int> obs;  // keyframe id -> keypoint index
   long first_kf = 0;        // keyframe that created the point
   int visible = 1, found = 1;
+  bool candidate = false;   // triangulated below the parallax gate: tracked and bundle-adjusted, not yet used for
+                            // a pose (Map::promoteCandidates)
   int stereo_obs = 0;       // right-image observations: a point from a stereo keyframe counts twice (ORB-SLAM)
   /// Keyframe observations plus right-image ones: what the culling and the keyframe rule count.
   size_t observations() const { return obs.size() + static_cast<size_t>(stereo_obs); }
@@ -72,6 +74,7 @@ struct LocalPoint {
   int ref_octave = 0;
   double ref_scale = 0.0;
   bool has_ref = false;
+  bool candidate = false;  // MapPoint::candidate: matched and kept, but no pose term
 };
 
 /// Pixels per metre of a small patch facing the camera at the point where the projection Jacobian J (2x3) was
@@ -95,6 +98,7 @@ struct NewMapPoint {
   int kp_a;
   long kf_b;
   int kp_b;
+  bool candidate = false;  // its parallax is below the gate (MapPoint::candidate)
 };
 
 /// A point of one stereo keyframe: its left keypoint and the position from the left-right triangulation.
@@ -182,6 +186,9 @@ class Map {
   /// Adds triangulated points (kf_a = the new keyframe) unless a keypoint got a point meanwhile.
   void addTriangulatedPoints(const std::vector<NewMapPoint>& points);
   void dropOldKeyframes(int max_keyframes);
+  /// Candidate points among point_ids whose observing keyframes' rays now span at least the parallax whose cosine
+  /// is cos_gate (after a BA moved them) become ordinary points; returns how many.
+  int promoteCandidates(const std::vector<long>& point_ids, double cos_gate);
 
   // ---- queries (any thread) ----
   std::vector<Eigen::Vector3d> pointPositions() const;

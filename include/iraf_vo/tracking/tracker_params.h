@@ -73,6 +73,10 @@ struct TrackerParams {
                                         // keyframes depend on the machine's load)
   int num_triangulation_neighbors = 6;
   double min_triangulation_parallax_deg = 1.0;
+  double candidate_parallax_ratio = 0.25;  // new points with a parallax from this x the gate up to the gate are
+                                           // candidates: tracked and bundle-adjusted, in no pose until a BA's
+                                           // rays span the gate (a gate on the measured parallax keeps the far
+                                           // points whose noise shortened their depth; 1 = off)
   double triangulation_match_ratio = 0.6;  // new-point matching along the epipolar line: best < this x the best
                                            // elsewhere on the line (same-corner keypoints within 5 px excepted;
                                            // repeated texture, e.g. facades on a horizontal line; 1 = off)
