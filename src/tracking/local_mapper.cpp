@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <unordered_map>
 
 namespace iraf_vo {
 
@@ -142,19 +143,24 @@ void LocalMapper::createNewMapPoints(long kf_id) {
   const double cos_min_parallax = std::cos(p_.min_triangulation_parallax_deg * M_PI / 180.0);
   const double cos_candidate_parallax =
       std::cos(p_.candidate_parallax_ratio * p_.min_triangulation_parallax_deg * M_PI / 180.0);
+  // Keypoint -> its widest candidate (below the gate) and that neighbour; made a point only if no neighbour gives
+  // the keypoint an ordinary one.
+  std::unordered_map<int, std::pair<NewMapPoint, double>> candidate_of;
+  std::unordered_map<long, TriangulationNeighbor*> neighbor_of;
   for (TriangulationNeighbor& nb : in.neighbors) {
     const Eigen::Vector3d c2 = nb.T_c_w.inverse().translation();
     if ((c2 - c1).norm() / in.median_depth < 0.01) continue;  // baseline too small
     const Keyframe& kf2 = *nb.keyframe;
+    neighbor_of[kf2.id] = &nb;
     const std::vector<int> match_of_2 = matcher_.searchForTriangulation(kf, used1, kf2, nb.point_id, nb.T_c_w * T1.inverse());
     for (size_t j = 0; j < match_of_2.size(); ++j) {
       const int i = match_of_2[j];
       if (i < 0 || used1[i]) continue;
       Eigen::Vector3d X;
       if (!triangulateBearings(T1, kf.bearings[i], nb.T_c_w, kf2.bearings[j], &X)) continue;
-      const Eigen::Vector3d r1 = (X - c1).normalized(), r2 = (X - c2).normalized();
-      const bool candidate = r1.dot(r2) > cos_min_parallax;
-      if (candidate && r1.dot(r2) > cos_candidate_parallax) continue;
+      const double cos_parallax = (X - c1).normalized().dot((X - c2).normalized());
+      const bool candidate = cos_parallax > cos_min_parallax;
+      if (candidate && cos_parallax > cos_candidate_parallax) continue;
       const cv::KeyPoint& kp1 = kf.keypoints[i];
       const cv::KeyPoint& kp2 = kf2.keypoints[j];
       const double s1 = kf.sigma(kp1.octave), s2 = kf2.sigma(kp2.octave);
@@ -162,10 +168,27 @@ void LocalMapper::createNewMapPoints(long kf_id) {
       const double e1 = reprojectionError2(cam_, T1, X, Eigen::Vector2d(kp1.pt.x, kp1.pt.y));
       const double e2 = reprojectionError2(cam_, nb.T_c_w, X, Eigen::Vector2d(kp2.pt.x, kp2.pt.y));
       if (e1 < 0 || e2 < 0 || e1 > kChi2TwoDof * s1 * s1 || e2 > kChi2TwoDof * s2 * s2) continue;
+      const NewMapPoint np{X, kf_id, i, kf2.id, static_cast<int>(j), candidate};
+      if (candidate) {
+        auto it = candidate_of.find(i);
+        if (it == candidate_of.end() || cos_parallax < it->second.second) candidate_of[i] = {np, cos_parallax};
+        continue;
+      }
       used1[i] = 1;
       nb.point_id[j] = -2;  // taken
-      created.push_back({X, kf_id, i, kf2.id, static_cast<int>(j), candidate});
+      created.push_back(np);
     }
+  }
+  std::vector<int> order;  // keypoint order: the same candidates whatever the hash map's order
+  for (const auto& kv : candidate_of) order.push_back(kv.first);
+  std::sort(order.begin(), order.end());
+  for (int i : order) {
+    const NewMapPoint& np = candidate_of[i].first;
+    long& taken = neighbor_of[np.kf_b]->point_id[static_cast<size_t>(np.kp_b)];
+    if (used1[i] || taken == -2) continue;
+    used1[i] = 1;
+    taken = -2;
+    created.push_back(np);
   }
   map_->addTriangulatedPoints(created);
   fuseMapPoints(kf_id);
