@@ -25,7 +25,8 @@ int candidateMatches(const MatchSet& matches, const std::vector<LocalPoint>& loc
 }  // namespace
 
 PoseTrackingResult PoseTracker::trackLocalMap(Frame& cur, const Eigen::Isometry3d& T_predicted, Map* map,
-                                              bool prediction_unknown, int min_search_inliers) const {
+                                              bool prediction_unknown, int min_search_inliers,
+                                              bool rough_prediction) const {
   PoseTrackingResult res;
   auto t0 = SteadyClock::now();
   const std::vector<LocalPoint> local = map->localPoints(p_.predict_scale ? &cam_ : nullptr);
@@ -63,6 +64,18 @@ PoseTrackingResult PoseTracker::trackLocalMap(Frame& cur, const Eigen::Isometry3
     t0 = SteadyClock::now();
     inliers = refinePose(cur, local, &matches, &T);
     res.ms_pose += msSince(t0);
+  }
+  for (int k = 0; rough_prediction && k < kMaxResearches && inliers >= p_.min_tracking_inliers; ++k) {
+    MatchSet again(cur.size(), local.size());
+    Eigen::Isometry3d T_again = T;
+    const int n_again = matcher_.searchByProjection(cur, T_again, local, p_.search_radius_px, 1, &again, nullptr);
+    if (n_again < p_.min_search_matches) break;
+    const int inliers_again = refinePose(cur, local, &again, &T_again);
+    if (inliers_again <= inliers) break;
+    matches = std::move(again);
+    T = T_again;
+    inliers = inliers_again;
+    n = n_again;
   }
   // A pose from PnP needs min_tracking_inliers; one from the projection search around T_predicted may need more.
   const int search_needs = std::max(p_.min_tracking_inliers, min_search_inliers);

@@ -140,16 +140,17 @@ bool Tracker::Impl::relocalizeAfterDarkness(Frame& cur, TrackResult* res) {
   for (const RelocalizationCandidate& c : candidates) {
     std::fill(cur.point_id.begin(), cur.point_id.end(), -1);  // of a rejected attempt
     res->rejected.clear();
-    if (trackFrom(cur, T_last, c.T_c_w, res)) return res->used_pnp = true;
+    if (trackFrom(cur, T_last, c.T_c_w, res, 0, c.pnp_inliers < Relocalizer::kEnoughPnPInliers))
+      return res->used_pnp = true;
   }
   return false;
 }
 
 bool Tracker::Impl::trackFrom(Frame& cur, const Eigen::Isometry3d& T_last, const Eigen::Isometry3d& T_predicted,
-                              TrackResult* res, int min_search_inliers) {
+                              TrackResult* res, int min_search_inliers, bool rough_prediction) {
   // A metric (stereo) map without a motion model: the first frame after the stereo start or after a loss.
   const PoseTrackingResult r = pose_tracker.trackLocalMap(cur, T_predicted, &map, metric_map && !have_velocity,
-                                                             min_search_inliers);
+                                                             min_search_inliers, rough_prediction);
   res->matches = r.matches;
   res->inliers = r.inliers;
   res->used_pnp = r.used_pnp;

@@ -83,7 +83,7 @@ struct Tracker::Impl {
   bool trackWithMotionModel(Frame& cur, TrackResult* res);
   Eigen::Isometry3d lastPose() const;
   bool trackFrom(Frame& cur, const Eigen::Isometry3d& T_last, const Eigen::Isometry3d& T_predicted, TrackResult* res,
-                 int min_search_inliers = 0);
+                 int min_search_inliers = 0, bool rough_prediction = false);
   bool relocalizeAfterDarkness(Frame& cur, TrackResult* res);
   Eigen::Matrix<double, 6, 6> initialPoseInformation(const Frame& cur) const;
   std::string checkHealth(const Frame& cur, const PoseTrackingResult& r, const Eigen::Isometry3d& T_last,

@@ -38,6 +38,9 @@ struct PoseTrackingResult {
 
 class PoseTracker {
  public:
+  /// Projection searches around the refined pose after a rough prediction (trackLocalMap).
+  static constexpr int kMaxResearches = 3;
+
   PoseTracker(const CameraModel& camera, const TrackerParams& params) : cam_(camera), p_(params), matcher_(camera, params) {}
 
   /// Stereo: the rig (must outlive the tracker) whose right camera sees Frame::right_obs; nullptr: monocular.
@@ -49,8 +52,12 @@ class PoseTracker {
   /// min_search_inliers > 0 (a relocalization): inliers the pose refined from the projection search needs before
   /// the narrow search (fewer: brute force + PnP decides; at least min_tracking_inliers); a search pose that has
   /// them is kept only if it ends with more inliers than the brute force + PnP pose.
+  /// rough_prediction (T_predicted from a PnP of few inliers, e.g. a keyframe's after darkness): the projection
+  /// search is repeated around the refined pose while that gains inliers (a pose refined from matches found
+  /// around a wrong seed can settle between it and the true pose).
   PoseTrackingResult trackLocalMap(Frame& cur, const Eigen::Isometry3d& T_predicted, Map* map,
-                                   bool prediction_unknown = false, int min_search_inliers = 0) const;
+                                   bool prediction_unknown = false, int min_search_inliers = 0,
+                                   bool rough_prediction = false) const;
   /// Stereo: refines the tracked cur.T_c_w again with the right residuals of cur.right_obs (matched after the
   /// tracking, e.g. for a new keyframe); the keypoints whose point fails the chi2 test lose it (cur.point_id).
   /// Returns the right residuals in use, or -1 (cur unchanged) without right observations or with fewer than
