@@ -1,11 +1,12 @@
-// Two-view initialization (two_view.h): E and H by RANSAC, ORB-SLAM model selection and scores, decomposition
-// into (R, t) hypotheses checked by triangulation, and a two-view BA. ROS-free.
+// Two-view initialization (two_view.h): ORB-SLAM model selection between E and H (fitted and scored in
+// two_view_models.h), decomposition into (R, t) hypotheses checked by triangulation, and a two-view BA. ROS-free.
 #include "iraf_vo/tracking/two_view.h"
 
 #include "iraf_vo/tracking/bundle_adjustment.h"
 #include "iraf_vo/tracking/geometry.h"
 #include "iraf_vo/tracking/multiview.h"
 #include "iraf_vo/tracking/two_view_ambiguity.h"
+#include "iraf_vo/tracking/two_view_models.h"
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
@@ -44,44 +45,6 @@ class NormalizedPinhole final : public CameraModel {
  private:
   double f_;
 };
-
-Eigen::Vector2d normalized(const Eigen::Vector3d& b) { return Eigen::Vector2d(b.x() / b.z(), b.y() / b.z()); }
-
-// ORB-SLAM style scores (pixel units through `focal`): sum over both directions of (gate - e^2/sigma^2).
-double scoreHomography(const Eigen::Matrix3d& H, const std::vector<Eigen::Vector2d>& p1,
-                       const std::vector<Eigen::Vector2d>& p2, double focal, double sigma, std::vector<char>* inl) {
-  const Eigen::Matrix3d Hinv = H.inverse();
-  const double th = 5.991, inv_s2 = 1.0 / (sigma * sigma), f2 = focal * focal;
-  double score = 0.0;
-  inl->assign(p1.size(), 0);
-  for (size_t i = 0; i < p1.size(); ++i) {
-    const Eigen::Vector3d a = H * p1[i].homogeneous(), b = Hinv * p2[i].homogeneous();
-    const double e21 = (a.hnormalized() - p2[i]).squaredNorm() * f2 * inv_s2;
-    const double e12 = (b.hnormalized() - p1[i]).squaredNorm() * f2 * inv_s2;
-    if (e21 > th || e12 > th) continue;
-    (*inl)[i] = 1;
-    score += (th - e21) + (th - e12);
-  }
-  return score;
-}
-
-double scoreEssential(const Eigen::Matrix3d& E, const std::vector<Eigen::Vector2d>& p1,
-                      const std::vector<Eigen::Vector2d>& p2, double focal, double sigma, std::vector<char>* inl) {
-  const double th = 3.841, th_score = 5.991, inv_s2 = 1.0 / (sigma * sigma), f2 = focal * focal;
-  double score = 0.0;
-  inl->assign(p1.size(), 0);
-  for (size_t i = 0; i < p1.size(); ++i) {
-    const Eigen::Vector3d x1 = p1[i].homogeneous(), x2 = p2[i].homogeneous();
-    const Eigen::Vector3d l2 = E * x1, l1 = E.transpose() * x2;
-    const double num = x2.dot(l2);
-    const double e2 = num * num / (l2.head<2>().squaredNorm() + 1e-18) * f2 * inv_s2;  // distance in image 2
-    const double e1 = num * num / (l1.head<2>().squaredNorm() + 1e-18) * f2 * inv_s2;
-    if (e1 > th || e2 > th) continue;
-    (*inl)[i] = 1;
-    score += (th_score - e1) + (th_score - e2);
-  }
-  return score;
-}
 
 struct Hypothesis {
   Eigen::Matrix3d R;
@@ -136,59 +99,6 @@ void checkRT(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, const std::vect
   }
 }
 
-
-// The matches whose rays point forward in both views, as bearings, normalized and OpenCV coordinates.
-struct ForwardMatches {
-  std::vector<int> index;  // into the caller's match list
-  std::vector<Eigen::Vector3d> b1, b2;
-  std::vector<Eigen::Vector2d> p1, p2;
-  std::vector<cv::Point2f> c1, c2;
-};
-
-// Only rays in front of both cameras have normalized coordinates (fisheye rays beyond 90 deg are dropped).
-ForwardMatches collectForwardMatches(const std::vector<Eigen::Vector3d>& b1, const std::vector<Eigen::Vector3d>& b2) {
-  ForwardMatches m;
-  for (size_t i = 0; i < b1.size(); ++i) {
-    if (b1[i].z() < 0.1 || b2[i].z() < 0.1) continue;
-    m.index.push_back(static_cast<int>(i));
-    m.b1.push_back(b1[i]);
-    m.b2.push_back(b2[i]);
-    m.p1.push_back(normalized(b1[i]));
-    m.p2.push_back(normalized(b2[i]));
-    m.c1.emplace_back(m.p1.back().x(), m.p1.back().y());
-    m.c2.emplace_back(m.p2.back().x(), m.p2.back().y());
-  }
-  return m;
-}
-
-// Both models by RANSAC (OpenCV) and their ORB-SLAM scores.
-struct TwoViewModels {
-  cv::Mat E, H;
-  bool have_e = false, have_h = false;
-  std::vector<char> inliers_e, inliers_h;
-};
-
-TwoViewModels fitEssentialAndHomography(const ForwardMatches& m, double focal, const TwoViewParams& params,
-                                        TwoViewResult* res) {
-  TwoViewModels models;
-  const double th_norm = params.threshold_px / focal;
-  cv::Mat mask_e, mask_h;
-  models.E = cv::findEssentialMat(m.c1, m.c2, cv::Mat::eye(3, 3, CV_64F), cv::RANSAC, 0.999, th_norm, mask_e);
-  models.H = cv::findHomography(m.c1, m.c2, cv::RANSAC, th_norm, mask_h, 2000, 0.999);
-  models.have_e = models.E.rows == 3 && models.E.cols == 3;
-  models.have_h = models.H.rows == 3 && models.H.cols == 3;
-  if (models.have_e) {
-    Eigen::Matrix3d E = Eigen::Matrix3d::Zero();
-    cv::cv2eigen(models.E, E);
-    res->score_f = scoreEssential(E, m.p1, m.p2, focal, params.threshold_px, &models.inliers_e);
-  }
-  if (models.have_h) {
-    Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
-    cv::cv2eigen(models.H, H);
-    res->score_h = scoreHomography(H, m.p1, m.p2, focal, params.threshold_px, &models.inliers_h);
-  }
-  return models;
-}
 
 // Every (R, t) the chosen model decomposes into, each triangulated and checked (checkRT).
 std::vector<Hypothesis> poseHypotheses(const TwoViewModels& models, bool use_h, const ForwardMatches& m, double focal,
