@@ -8,7 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <unordered_map>
+#include <map>
 
 namespace iraf_vo {
 
@@ -145,13 +145,16 @@ void LocalMapper::createNewMapPoints(long kf_id) {
       std::cos(p_.candidate_parallax_ratio * p_.min_triangulation_parallax_deg * M_PI / 180.0);
   // Keypoint -> its widest candidate (below the gate) and that neighbour; made a point only if no neighbour gives
   // the keypoint an ordinary one.
-  std::unordered_map<int, std::pair<NewMapPoint, double>> candidate_of;
-  std::unordered_map<long, TriangulationNeighbor*> neighbor_of;
+  struct Candidate {
+    NewMapPoint point;
+    double cos_parallax;
+    TriangulationNeighbor* neighbor;
+  };
+  std::map<int, Candidate> candidate_of;
   for (TriangulationNeighbor& nb : in.neighbors) {
     const Eigen::Vector3d c2 = nb.T_c_w.inverse().translation();
     if ((c2 - c1).norm() / in.median_depth < 0.01) continue;  // baseline too small
     const Keyframe& kf2 = *nb.keyframe;
-    neighbor_of[kf2.id] = &nb;
     const std::vector<int> match_of_2 = matcher_.searchForTriangulation(kf, used1, kf2, nb.point_id, nb.T_c_w * T1.inverse());
     for (size_t j = 0; j < match_of_2.size(); ++j) {
       const int i = match_of_2[j];
@@ -171,7 +174,7 @@ void LocalMapper::createNewMapPoints(long kf_id) {
       const NewMapPoint np{X, kf_id, i, kf2.id, static_cast<int>(j), candidate};
       if (candidate) {
         auto it = candidate_of.find(i);
-        if (it == candidate_of.end() || cos_parallax < it->second.second) candidate_of[i] = {np, cos_parallax};
+        if (it == candidate_of.end() || cos_parallax < it->second.cos_parallax) candidate_of[i] = {np, cos_parallax, &nb};
         continue;
       }
       used1[i] = 1;
@@ -179,16 +182,12 @@ void LocalMapper::createNewMapPoints(long kf_id) {
       created.push_back(np);
     }
   }
-  std::vector<int> order;  // keypoint order: the same candidates whatever the hash map's order
-  for (const auto& kv : candidate_of) order.push_back(kv.first);
-  std::sort(order.begin(), order.end());
-  for (int i : order) {
-    const NewMapPoint& np = candidate_of[i].first;
-    long& taken = neighbor_of[np.kf_b]->point_id[static_cast<size_t>(np.kp_b)];
+  for (const auto& [i, c] : candidate_of) {  // in keypoint order
+    long& taken = c.neighbor->point_id[static_cast<size_t>(c.point.kp_b)];
     if (used1[i] || taken == -2) continue;
     used1[i] = 1;
     taken = -2;
-    created.push_back(np);
+    created.push_back(c.point);
   }
   map_->addTriangulatedPoints(created);
   fuseMapPoints(kf_id);

@@ -1,7 +1,7 @@
 // Monocular scale on the highway: the few near points (posts, signs) leave the view within frames at 1 m per
 // frame; the keyframe rule must not wait for mapping while they run out, or the pose comes from far points alone
-// and the step length collapses. Frames rendered in-process as iraf_vo_simulate renders them (pinhole, seed 5),
-// default (threaded) mapping.
+// and the step length collapses. Frames rendered in-process as iraf_vo_simulate renders them (pinhole seed 5,
+// KITTI-like seed 14), default (threaded) mapping.
 #include <gtest/gtest.h>
 #include <iraf_vo/enhance/enhancer.h>
 #include <iraf_vo/features/feature_extractor.h>
@@ -13,7 +13,6 @@
 #include "motion_sim.h"
 
 #include <algorithm>
-#include <functional>
 #include <map>
 #include <vector>
 
@@ -26,8 +25,7 @@ struct HighwayRun {
   std::map<int, Eigen::Vector3d> est, gt;
 };
 
-HighwayRun trackHighway(const std::string& camera, uint64_t seed, int frames,
-                        const std::function<void(TrackerParams*)>& tune) {
+HighwayRun trackHighway(const std::string& camera, uint64_t seed, int frames) {
   const MotionSim m = makeMotionSim(MotionKind::kHighway, camera, frames, 1, seed);
   HighwayRun run;
   if (!m.camera) {
@@ -38,7 +36,6 @@ HighwayRun trackHighway(const std::string& camera, uint64_t seed, int frames,
   Renderer renderer(cam, m.scene, m.sim);
   PipelineParams pp;
   applyResolutionRule(*cam, &pp);
-  tune(&pp.tracker);
   Enhancer enhancer;
   FeatureExtractor extractor;
   Tracker tracker(cam, pp.tracker);
@@ -74,7 +71,7 @@ double medianStepRatio(const HighwayRun& run, int from, int to) {
 // Pinhole seed 5: the near points are gone at frames 11-13 and the road has none until ~frame 30. Without the
 // close-point rule (keyframe_close_steps 0) the step shrinks to ~0.25 of the start's by frame 30.
 TEST(TrackingHighwayScale, StepLengthHoldsWhileTheNearPointsRunOut) {
-  const HighwayRun run = trackHighway("pinhole", 5, 36, [](TrackerParams*) {});
+  const HighwayRun run = trackHighway("pinhole", 5, 36);
   ASSERT_GE(run.est.size(), 30u) << "tracked frames";
   const double start = medianStepRatio(run, 2, 9);
   ASSERT_GT(start, 0.0);
@@ -88,7 +85,7 @@ TEST(TrackingHighwayScale, StepLengthHoldsWhileTheNearPointsRunOut) {
 // step. Candidates (candidate_parallax_ratio) are tracked and bundle-adjusted but carry no pose until a BA's rays
 // span the gate. Without them (ratio 1) the step at frames 52-61 is 0.27 of the start's; with them 0.93.
 TEST(TrackingHighwayScale, StepLengthHoldsOnFarPointsNearTheParallaxGate) {
-  const HighwayRun run = trackHighway("kitti", 14, 100, [](TrackerParams*) {});
+  const HighwayRun run = trackHighway("kitti", 14, 100);
   ASSERT_GE(run.est.size(), 95u) << "tracked frames";
   const double start = medianStepRatio(run, 2, 12);
   ASSERT_GT(start, 0.0);
