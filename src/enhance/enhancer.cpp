@@ -31,6 +31,32 @@ std::array<double, 256> histogram256(const cv::Mat& gray) {
   return h;
 }
 
+std::array<double, 256> textureWeightedHistogram(const cv::Mat& gray) {
+  CV_Assert(gray.type() == CV_8UC1);
+  std::array<double, 256> h{};
+  cv::Mat half;
+  cv::resize(gray, half, cv::Size((gray.cols + 1) / 2, (gray.rows + 1) / 2), 0, 0, cv::INTER_AREA);
+  std::array<int64_t, 256> acc{};
+  for (int r = 1; r + 1 < half.rows; ++r) {
+    const uint8_t* up = half.ptr<uint8_t>(r - 1);
+    const uint8_t* p = half.ptr<uint8_t>(r);
+    const uint8_t* dn = half.ptr<uint8_t>(r + 1);
+    for (int c = 1; c + 1 < half.cols; ++c)
+      acc[p[c]] += std::abs(p[c + 1] - p[c - 1]) + std::abs(dn[c] - up[c]);
+  }
+  for (int i = 0; i < 256; ++i) h[i] = static_cast<double>(acc[i]);
+  return h;
+}
+
+double histogramMean(const std::array<double, 256>& h, double fallback) {
+  double sum = 0.0, total = 0.0;
+  for (int i = 0; i < 256; ++i) {
+    sum += i * h[i];
+    total += h[i];
+  }
+  return total > 0.0 ? sum / total : fallback;
+}
+
 std::array<uint8_t, 256> agcwdLut(const std::array<double, 256>& histogram, double lambda, double tau) {
   double total = 0.0;
   for (double v : histogram) total += v;
@@ -181,9 +207,17 @@ EnhanceResult Enhancer::enhance(const cv::Mat& gray, const EnhanceParams& cfg) {
   if (!err.empty()) throw std::invalid_argument("enhance: bad config: " + err);
 
   EnhanceResult res;
-  // eq. (9): mu = mean intensity
+  // eq. (9): mu = mean intensity; with texture_weighted_brightness the class follows the textured pixels' mean.
   res.mu = cv::mean(gray)[0];
-  res.brightness = classifyBrightness(res.mu, cfg, &res.t);
+  std::array<double, 256> texture_hist{};
+  bool by_texture = false;
+  if (cfg.texture_weighted_brightness && cfg.method == EnhanceMethod::kIraf) {
+    texture_hist = textureWeightedHistogram(gray);
+    res.mu_texture = histogramMean(texture_hist, -1.0);
+    by_texture = res.mu_texture >= 0.0;  // a flat image has no texture: every pixel, as printed
+    if (!by_texture) res.mu_texture = 0.0;
+  }
+  res.brightness = classifyBrightness(by_texture ? res.mu_texture : res.mu, cfg, &res.t);
 
   switch (cfg.method) {
     case EnhanceMethod::kNone:
@@ -222,7 +256,7 @@ EnhanceResult Enhancer::enhance(const cv::Mat& gray, const EnhanceParams& cfg) {
       const cv::Mat* gamma_img = &blurred_;
       if (res.brightness != BrightnessClass::kNormal) {
         const bool bright = res.brightness == BrightnessClass::kBright;
-        std::array<double, 256> h = histogram256(blurred_);
+        std::array<double, 256> h = by_texture ? texture_hist : histogram256(blurred_);
         if (bright) std::reverse(h.begin(), h.end());  // histogram of 255 - I_blurred
         const auto lut = agcwdLut(h, bright ? cfg.bright_lambda : cfg.dim_lambda, bright ? cfg.bright_tau : cfg.dim_tau);
         applyLut(blurred_, lut, bright, gamma_);

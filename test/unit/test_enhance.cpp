@@ -319,6 +319,46 @@ TEST(Enhancer, OverBrightImageComesOutDarker) {
   EXPECT_LT(cv::mean(r.image)[0], cv::mean(bright)[0] - 5.0);
 }
 
+TEST(TextureWeightedHistogram, WeighsPixelsByTheirGradient) {
+  cv::Mat flat(64, 64, CV_8UC1, cv::Scalar(200));
+  const std::array<double, 256> none = textureWeightedHistogram(flat);
+  for (double v : none) EXPECT_EQ(v, 0.0);
+  EXPECT_EQ(histogramMean(none, 42.0), 42.0);  // nothing textured: the fallback
+  // Left half flat at 240, right half a checkerboard of 90 / 110: the weight sits on the checkerboard.
+  cv::Mat img(64, 64, CV_8UC1, cv::Scalar(240));
+  for (int r = 0; r < 64; ++r)
+    for (int c = 32; c < 64; ++c) img.at<uint8_t>(r, c) = ((r / 4 + c / 4) % 2) ? 110 : 90;
+  const std::array<double, 256> h = textureWeightedHistogram(img);
+  EXPECT_GT(cv::mean(img)[0], 165.0);
+  EXPECT_NEAR(histogramMean(h, 0.0), 100.0, 25.0);  // the halved image's levels at the edges lie in between
+}
+
+// An outdoor view: a flat bright sky over a textured road of normal exposure. By the mean of every pixel the image
+// is "bright" and the gamma correction darkens the road; weighted by texture it is normal and the road keeps its
+// levels.
+TEST(Enhancer, FlatBrightSkyDoesNotDarkenTheTexturedRoad) {
+  cv::Mat img(160, 160, CV_8UC1, cv::Scalar(245));
+  cv::Mat road = iraf_vo_test::texturedImage();
+  cv::resize(road, road, cv::Size(160, 80));
+  cv::Mat road_part = img(cv::Rect(0, 80, 160, 80));
+  road.convertTo(road_part, CV_8U, 0.5, 40.0);  // about 100 +- 30
+  const double road_in = cv::mean(road_part)[0];
+  EnhanceParams p;
+  p.eta = 1.0;  // no sharpening: only the gamma term moves the levels
+  Enhancer e;
+  p.texture_weighted_brightness = false;
+  const EnhanceResult by_all = e.enhance(img, p);
+  p.texture_weighted_brightness = true;
+  const EnhanceResult by_texture = e.enhance(img, p);
+  EXPECT_EQ(by_all.brightness, BrightnessClass::kBright);
+  EXPECT_EQ(by_texture.brightness, BrightnessClass::kNormal);
+  EXPECT_EQ(by_texture.mu, by_all.mu);  // eq. (9) is still reported
+  EXPECT_LT(by_texture.mu_texture, by_all.mu - 30.0);
+  const cv::Rect road_rect(0, 84, 160, 76);  // clear of the sky edge the blur spreads
+  EXPECT_LT(cv::mean(by_all.image(road_rect))[0], road_in - 15.0);
+  EXPECT_NEAR(cv::mean(by_texture.image(road_rect))[0], road_in, 2.0);
+}
+
 TEST(Enhancer, KeepsSizeAndTypeAndSurvivesTinyAndFlatInputs) {
   Enhancer e;
   EnhanceParams p;
@@ -394,7 +434,8 @@ TEST(EnhanceParamsIo, SetsEveryFieldByNameAndRejectsUnknownOrBadValues) {
   // Every advertised name is settable.
   for (const auto& n : enhanceParamTable().names()) {
     EnhanceParams q;
-    EXPECT_TRUE(enhanceParamTable().set(&q, n, n == "method" ? "he" : "3", &err)) << n << ": " << err;
+    const std::string value = n == "method" ? "he" : n == "texture_weighted_brightness" ? "true" : "3";
+    EXPECT_TRUE(enhanceParamTable().set(&q, n, value, &err)) << n << ": " << err;
   }
 }
 

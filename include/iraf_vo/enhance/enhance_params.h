@@ -31,6 +31,10 @@ struct EnhanceParams {
   // brightness_ramp): 0 at the class boundary, so the output changes continuously with the exposure instead of
   // jumping when t crosses the threshold. 0 = the paper's hard switch (full weight as soon as |t| > threshold).
   double brightness_ramp = 0.1;
+  // eq. (9)'s mean and eq. (3)'s histogram over the textured pixels: each pixel weighted by its gradient
+  // (textureWeightedHistogram), so a flat sky or a blown-out wall does not decide how the texture is exposed.
+  // false: over all pixels, as printed.
+  bool texture_weighted_brightness = false;
 
   // eqs. (5)-(7) for dim images: smoothness lambda and lower gamma bound tau.
   double dim_lambda = 0.75;

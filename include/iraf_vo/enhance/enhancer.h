@@ -26,7 +26,8 @@ const char* toString(BrightnessClass c);
 struct EnhanceResult {
   cv::Mat image;  // CV_8UC1, same size as the input
   BrightnessClass brightness = BrightnessClass::kNormal;
-  double mu = 0.0;  // eq. (9)
+  double mu = 0.0;  // eq. (9): mean intensity
+  double mu_texture = 0.0;  // texture_weighted_brightness: the texture-weighted mean that sets t instead (else 0)
   double t = 0.0;   // eq. (10)
   double gamma_weight = 0.0;  // weight of the gamma correction actually applied (0 for a normal image; brightness_ramp)
   double unsharp_amount = 0.0;  // eq. (12) eta actually applied (iraf): eta, lowered toward 1 at a low SNR
@@ -59,6 +60,13 @@ std::array<uint8_t, 256> agcwdLut(const std::array<double, 256>& histogram, doub
 
 /// Histogram of a CV_8UC1 image as doubles (eq. 3).
 std::array<double, 256> histogram256(const cv::Mat& gray);
+
+/// Histogram of a CV_8UC1 image with each pixel weighted by its gradient (|dx| + |dy| of central differences on
+/// the image halved by area averaging; the halved image's levels). All zeros on a flat image.
+std::array<double, 256> textureWeightedHistogram(const cv::Mat& gray);
+
+/// Mean level of a histogram; `fallback` when it is empty.
+double histogramMean(const std::array<double, 256>& h, double fallback);
 
 /// eqs. (9)-(10).
 BrightnessClass classifyBrightness(double mu, const EnhanceParams& cfg, double* t);
