@@ -27,12 +27,44 @@ int candidateMatches(const MatchSet& matches, const std::vector<LocalPoint>& loc
 PoseTrackingResult PoseTracker::trackLocalMap(Frame& cur, const Eigen::Isometry3d& T_predicted, Map* map,
                                               bool prediction_unknown, int min_search_inliers,
                                               bool rough_prediction) const {
-  PoseTrackingResult res;
-  auto t0 = SteadyClock::now();
   const std::vector<LocalPoint> local = map->localPoints(p_.predict_scale ? &cam_ : nullptr);
-  MatchSet matches(cur.size(), local.size());
-  std::vector<char> visible(local.size(), 0);
-  Eigen::Isometry3d T = T_predicted;
+  Solution s = solve(cur, T_predicted, local, prediction_unknown, min_search_inliers, rough_prediction);
+  PoseTrackingResult& res = s.res;
+  if (!res.tracked) return res;
+  cur.T_c_w = s.T;
+  map->countVisibility(local, s.visible, s.matches.keypointOfPoint());
+  std::vector<double> depths;
+  for (size_t i = 0; i < cur.size(); ++i) {
+    const int li = s.matches.pointOf(static_cast<int>(i));
+    if (li < 0) continue;
+    cur.point_id[i] = local[li].id;
+    depths.push_back((s.T * local[li].p_w).z());
+  }
+  if (!depths.empty()) {
+    std::nth_element(depths.begin(), depths.begin() + depths.size() / 2, depths.end());
+    res.median_depth = depths[depths.size() / 2];
+    res.has_median_depth = true;
+  }
+  return res;
+}
+
+int PoseTracker::inliersFrom(const Frame& cur, const Eigen::Isometry3d& T_predicted, const Map& map,
+                             bool rough_prediction) const {
+  const std::vector<LocalPoint> local = map.localPoints(p_.predict_scale ? &cam_ : nullptr);
+  const Solution s = solve(cur, T_predicted, local, false, 0, rough_prediction);
+  return s.res.tracked ? s.res.inliers : 0;
+}
+
+PoseTracker::Solution PoseTracker::solve(const Frame& cur, const Eigen::Isometry3d& T_predicted,
+                                         const std::vector<LocalPoint>& local, bool prediction_unknown,
+                                         int min_search_inliers, bool rough_prediction) const {
+  Solution sol(cur.size(), local.size());
+  PoseTrackingResult& res = sol.res;
+  MatchSet& matches = sol.matches;
+  std::vector<char>& visible = sol.visible;
+  Eigen::Isometry3d& T = sol.T;
+  auto t0 = SteadyClock::now();
+  T = T_predicted;
   int n = 0;
   if (prediction_unknown) {
     // No motion model: a projection search around T_predicted finds only the far points when the camera moved
@@ -83,7 +115,7 @@ PoseTrackingResult PoseTracker::trackLocalMap(Frame& cur, const Eigen::Isometry3
     inliers = pnpPose(cur, local, &matches, &T, &res, &res.used_pnp);
   res.matches = n;
   res.inliers = inliers;
-  if (inliers < p_.min_tracking_inliers) return res;
+  if (inliers < p_.min_tracking_inliers) return sol;
   narrowPass(cur, local, &matches, &T, &visible, &res);
   if (min_search_inliers > 0 && !res.used_pnp) {
     // A relocalization from the search around T_predicted: the prior-free brute force + PnP pose competes.
@@ -106,25 +138,10 @@ PoseTrackingResult PoseTracker::trackLocalMap(Frame& cur, const Eigen::Isometry3
       }
     }
   }
-  if (res.inliers < p_.min_tracking_inliers) return res;
+  if (res.inliers < p_.min_tracking_inliers) return sol;
   describeInliers(cur, local, matches, T, &res);
-
   res.tracked = true;
-  cur.T_c_w = T;
-  map->countVisibility(local, visible, matches.keypointOfPoint());
-  std::vector<double> depths;
-  for (size_t i = 0; i < cur.size(); ++i) {
-    const int li = matches.pointOf(static_cast<int>(i));
-    if (li < 0) continue;
-    cur.point_id[i] = local[li].id;
-    depths.push_back((T * local[li].p_w).z());
-  }
-  if (!depths.empty()) {
-    std::nth_element(depths.begin(), depths.begin() + depths.size() / 2, depths.end());
-    res.median_depth = depths[depths.size() / 2];
-    res.has_median_depth = true;
-  }
-  return res;
+  return sol;
 }
 
 int PoseTracker::pnpPose(const Frame& f, const std::vector<LocalPoint>& local, MatchSet* matches,

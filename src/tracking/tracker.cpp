@@ -130,20 +130,33 @@ Eigen::Isometry3d Tracker::Impl::lastPose() const {
 }
 
 // After dark frames, when tracking from the last pose failed: the local map tracked from the poses the keyframe-wise
-// relocalization proposes (best first); the same inlier and health checks decide.
+// relocalization proposes, the one whose tracking ends with the most map inliers first (PnP seeds of 10-20 inliers
+// on a frame still recovering its exposure can be the wrong keyframe's: the search around such a seed settles on a
+// pose with fewer inliers than around the right one); the same inlier and health checks decide.
 bool Tracker::Impl::relocalizeAfterDarkness(Frame& cur, TrackResult* res) {
   if (!signal.recovering()) return false;
   const auto t0 = SteadyClock::now();
-  const std::vector<RelocalizationCandidate> candidates = relocalizer.candidates(cur, map, 3);
+  std::vector<RelocalizationCandidate> candidates = relocalizer.candidates(cur, map, 3);
+  rankByTrackedInliers(cur, &candidates);
   res->timing.ms_match += msSince(t0);
   const Eigen::Isometry3d T_last = lastPose();
   for (const RelocalizationCandidate& c : candidates) {
     std::fill(cur.point_id.begin(), cur.point_id.end(), -1);  // of a rejected attempt
     res->rejected.clear();
-    if (trackFrom(cur, T_last, c.T_c_w, res, 0, c.pnp_inliers < Relocalizer::kEnoughPnPInliers))
-      return res->used_pnp = true;
+    if (trackFrom(cur, T_last, c.T_c_w, res, 0, roughSeed(c))) return res->used_pnp = true;
   }
   return false;
+}
+
+void Tracker::Impl::rankByTrackedInliers(const Frame& cur, std::vector<RelocalizationCandidate>* candidates) const {
+  if (candidates->size() < 2) return;
+  std::vector<std::pair<int, size_t>> order;  // (-inliers, rank from the relocalizer)
+  for (size_t k = 0; k < candidates->size(); ++k)
+    order.emplace_back(-pose_tracker.inliersFrom(cur, (*candidates)[k].T_c_w, map, roughSeed((*candidates)[k])), k);
+  std::sort(order.begin(), order.end());
+  std::vector<RelocalizationCandidate> ranked;
+  for (const auto& o : order) ranked.push_back((*candidates)[o.second]);
+  *candidates = std::move(ranked);
 }
 
 bool Tracker::Impl::trackFrom(Frame& cur, const Eigen::Isometry3d& T_last, const Eigen::Isometry3d& T_predicted,

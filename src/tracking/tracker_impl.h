@@ -82,6 +82,11 @@ struct Tracker::Impl {
   bool mapBaselineSettled(const Frame& cur) const;
   bool trackWithMotionModel(Frame& cur, TrackResult* res);
   Eigen::Isometry3d lastPose() const;
+  /// Orders relocalization candidates by the map inliers tracking from each ends with (most first; ties keep the
+  /// relocalizer's order).
+  void rankByTrackedInliers(const Frame& cur, std::vector<RelocalizationCandidate>* candidates) const;
+  /// A PnP seed of fewer than kEnoughPnPInliers: the projection search is repeated around the refined pose.
+  static bool roughSeed(const RelocalizationCandidate& c) { return c.pnp_inliers < Relocalizer::kEnoughPnPInliers; }
   bool trackFrom(Frame& cur, const Eigen::Isometry3d& T_last, const Eigen::Isometry3d& T_predicted, TrackResult* res,
                  int min_search_inliers = 0, bool rough_prediction = false);
   bool relocalizeAfterDarkness(Frame& cur, TrackResult* res);

@@ -125,5 +125,27 @@ TEST(PoseTrackerRelocalization, SearchPoseAboveTheMinimumLosesToAStrongerPnPPose
   EXPECT_LT(centreDistance(r.cur.T_c_w, r.T_true), 0.01) << "the PnP pose has more inliers and is kept";
 }
 
+// Ranking relocalization seeds (Tracker: the candidate whose tracking ends with the most map inliers first): what
+// tracking from a seed would end with, computed without touching the frame or the map.
+TEST(PoseTrackerRelocalization, InliersFromRanksTheTrueSeedAboveTheDecoyAndChangesNothing) {
+  DecoyScene s(70);
+  PoseTracker tracker(s.cam, s.params);
+  const int from_decoy = tracker.inliersFrom(s.cur, s.T_pred, s.map, true);
+  const int from_truth = tracker.inliersFrom(s.cur, s.T_true, s.map, true);
+  EXPECT_GE(from_decoy, 60);
+  EXPECT_GT(from_truth, from_decoy + 50);
+  for (long id : s.cur.point_id) EXPECT_EQ(id, -1) << "the frame is untouched";
+  // The same number as tracking itself (the map is taken const: its counts stay as they were); tracking afterwards
+  // gives what it gives on an untouched scene.
+  DecoyScene fresh(70);
+  const PoseTrackingResult after = tracker.trackLocalMap(s.cur, s.T_true, &s.map, false, 0, true);
+  const PoseTrackingResult untouched = PoseTracker(fresh.cam, fresh.params).trackLocalMap(fresh.cur, fresh.T_true,
+                                                                                           &fresh.map, false, 0, true);
+  ASSERT_TRUE(after.tracked);
+  EXPECT_EQ(after.inliers, from_truth);
+  EXPECT_EQ(after.inliers, untouched.inliers);
+  EXPECT_LT(centreDistance(s.cur.T_c_w, fresh.cur.T_c_w), 1e-12);
+}
+
 }  // namespace
 }  // namespace iraf_vo

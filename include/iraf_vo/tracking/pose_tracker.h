@@ -58,6 +58,9 @@ class PoseTracker {
   PoseTrackingResult trackLocalMap(Frame& cur, const Eigen::Isometry3d& T_predicted, Map* map,
                                    bool prediction_unknown = false, int min_search_inliers = 0,
                                    bool rough_prediction = false) const;
+  /// The inliers trackLocalMap would end with from T_predicted (0: not tracked), without touching `cur` or `map`:
+  /// ranks the poses a relocalization could start from.
+  int inliersFrom(const Frame& cur, const Eigen::Isometry3d& T_predicted, const Map& map, bool rough_prediction) const;
   /// Stereo: refines the tracked cur.T_c_w again with the right residuals of cur.right_obs (matched after the
   /// tracking, e.g. for a new keyframe); the keypoints whose point fails the chi2 test lose it (cur.point_id).
   /// Returns the right residuals in use, or -1 (cur unchanged) without right observations or with fewer than
@@ -65,6 +68,17 @@ class PoseTracker {
   int refineWithRight(Frame& cur, const Map& map) const;
 
  private:
+  /// What trackLocalMap found: its result, pose, matches (keypoint <-> local point) and the points in view.
+  struct Solution {
+    Solution(size_t num_keypoints, size_t num_points) : matches(num_keypoints, num_points), visible(num_points, 0) {}
+    PoseTrackingResult res;
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    MatchSet matches;
+    std::vector<char> visible;
+  };
+  /// trackLocalMap's searches and refinements on `local`; res.tracked says whether the pose is accepted.
+  Solution solve(const Frame& cur, const Eigen::Isometry3d& T_predicted, const std::vector<LocalPoint>& local,
+                 bool prediction_unknown, int min_search_inliers, bool rough_prediction) const;
   /// Pose-only refinement from the matches (and their right observations); outlier matches are removed. Returns
   /// the inliers; *right_inliers (optional): the right residuals in use.
   int refinePose(const Frame& f, const std::vector<LocalPoint>& local, MatchSet* matches, Eigen::Isometry3d* T,
