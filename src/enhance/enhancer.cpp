@@ -207,17 +207,20 @@ EnhanceResult Enhancer::enhance(const cv::Mat& gray, const EnhanceParams& cfg) {
   if (!err.empty()) throw std::invalid_argument("enhance: bad config: " + err);
 
   EnhanceResult res;
-  // eq. (9): mu = mean intensity; with texture_weighted_brightness the class follows the textured pixels' mean.
+  // eq. (9): mu = mean intensity. With texture_weighted_brightness an image bright by that mean is bright only as
+  // far as its textured pixels are (the lower of the two means): a flat sky or blown-out area does not make it
+  // over-exposed. Dim stays as printed: texture in the dark has small gradients, a gradient weight would hide it.
   res.mu = cv::mean(gray)[0];
+  res.brightness = classifyBrightness(res.mu, cfg, &res.t);
   std::array<double, 256> texture_hist{};
   bool by_texture = false;
-  if (cfg.texture_weighted_brightness && cfg.method == EnhanceMethod::kIraf) {
+  if (cfg.texture_weighted_brightness && cfg.method == EnhanceMethod::kIraf && res.t > 0.0) {
     texture_hist = textureWeightedHistogram(gray);
     res.mu_texture = histogramMean(texture_hist, -1.0);
-    by_texture = res.mu_texture >= 0.0;  // a flat image has no texture: every pixel, as printed
-    if (!by_texture) res.mu_texture = 0.0;
+    by_texture = res.mu_texture >= 0.0 && res.mu_texture < res.mu;  // a flat image has no texture: as printed
+    if (by_texture) res.brightness = classifyBrightness(res.mu_texture, cfg, &res.t);
+    else res.mu_texture = 0.0;
   }
-  res.brightness = classifyBrightness(by_texture ? res.mu_texture : res.mu, cfg, &res.t);
 
   switch (cfg.method) {
     case EnhanceMethod::kNone:
