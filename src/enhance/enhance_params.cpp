@@ -34,8 +34,8 @@ const ParamTable<EnhanceParams>& enhanceParamTable() {
                       "Gamma correction weight min(1, (|t| - brightness_threshold) / ramp): continuous across the "
                       "class boundary under exposure changes; 0 = the paper's hard switch"),
           boolParam("texture_weighted_brightness", &P::texture_weighted_brightness,
-                    "eqs. 3 and 9 over the textured pixels (each weighted by its gradient): a flat sky or blown-out "
-                    "area does not set the class and the gamma curve. Off: every pixel, as printed"),
+                    "Bright (eq. 10) only if the textured pixels are (gradient-weighted mean), their histogram for "
+                    "eq. 3: a flat sky or blown-out area does not darken the texture. Off: every pixel, as printed"),
           doubleParam("dim_lambda", &P::dim_lambda, 0.01, 2.0,
                       "eq. 5: smoothness lambda for dim images (authors' code: 0.75)"),
           doubleParam("dim_tau", &P::dim_tau, 0.01, 1.0,

@@ -312,11 +312,17 @@ TEST(Enhancer, OverBrightImageComesOutDarker) {
   if (src.empty()) src = iraf_vo_test::texturedImage();
   const cv::Mat bright = scaled(src, 3.0);  // saturates: over-exposed
   EnhanceParams p;
+  p.texture_weighted_brightness = false;  // the paper: every pixel
   Enhancer e;
   const EnhanceResult r = e.enhance(bright, p);
   EXPECT_EQ(r.brightness, BrightnessClass::kBright);
   EXPECT_GT(r.t, p.brightness_threshold);
   EXPECT_LT(cv::mean(r.image)[0], cv::mean(bright)[0] - 5.0);
+  // By default the clipped (flat) areas do not count: the class follows the textured pixels, less bright.
+  const EnhanceResult by_texture = e.enhance(bright, EnhanceParams());
+  EXPECT_GT(by_texture.mu_texture, 0.0);
+  EXPECT_LT(by_texture.mu_texture, r.mu);
+  EXPECT_LT(by_texture.t, r.t);
 }
 
 TEST(TextureWeightedHistogram, WeighsPixelsByTheirGradient) {

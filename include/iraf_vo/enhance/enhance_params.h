@@ -31,10 +31,10 @@ struct EnhanceParams {
   // brightness_ramp): 0 at the class boundary, so the output changes continuously with the exposure instead of
   // jumping when t crosses the threshold. 0 = the paper's hard switch (full weight as soon as |t| > threshold).
   double brightness_ramp = 0.1;
-  // eq. (9)'s mean and eq. (3)'s histogram over the textured pixels: each pixel weighted by its gradient
-  // (textureWeightedHistogram), so a flat sky or a blown-out wall does not decide how the texture is exposed.
-  // false: over all pixels, as printed.
-  bool texture_weighted_brightness = false;
+  // An image bright by eq. (9)'s mean is bright only as far as its textured pixels are (their gradient-weighted
+  // mean, textureWeightedHistogram), and its gamma curve comes from their histogram: a flat sky or blown-out wall
+  // does not darken the texture. Dim is judged as printed. false: every pixel, as printed.
+  bool texture_weighted_brightness = true;
 
   // eqs. (5)-(7) for dim images: smoothness lambda and lower gamma bound tau.
   double dim_lambda = 0.75;
