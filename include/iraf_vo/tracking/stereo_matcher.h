@@ -20,7 +20,7 @@
 //
 // Close / far (ORB-SLAM's rule, as a disparity): a match with less than stereo_min_disparity_px of disparity
 // (focal x baseline / depth; 2 px) gives no depth from one stereo frame, unless the frame has fewer close matches
-// than stereo_far_fill_points (100): then the nearest far ones fill it up. Far points enter the map
+// than stereo_far_fill_points (200): then the nearest far ones fill it up. Far points enter the map
 // from the triangulation between keyframes. Below ~2 px the kept matches' depths are biased short (the cap
 // selects positive disparity errors): simulated highway, pinhole, 80-150 m -37 %, fisheye beyond 150 m -90 %.
 #pragma once

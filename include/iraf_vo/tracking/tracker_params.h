@@ -97,8 +97,9 @@ struct TrackerParams {
                                             // keypoints in the right image (KITTI rig, 0.54 m, at 0.4-4 m: 33-99
                                             // per frame). The next frame's search needs min_search_matches (30)
                                             // of them: a start with 34 found 28-30 and was lost, 42 tracked
-  int stereo_far_fill_points = 100;         // a matched frame with fewer close points than this gets the nearest
-                                            // far ones up to it (ORB-SLAM's stereo keyframe rule)
+  int stereo_far_fill_points = 200;         // a matched frame with fewer close points than this gets the nearest
+                                            // far ones up to it (ORB-SLAM's stereo keyframe rule, with 100; 200:
+                                            // a 512-px fisheye road start keeps tracking, docs/decisions.md)
   bool stereo_match_every_frame = false;    // true: left-right matching (and the right front-end) on every frame,
                                             // right residuals in every pose refinement; false: on the
                                             // initialization and keyframes only, whose pose is refined again
