@@ -214,7 +214,8 @@ EnhanceResult Enhancer::enhance(const cv::Mat& gray, const EnhanceParams& cfg) {
   res.brightness = classifyBrightness(res.mu, cfg, &res.t);
   std::array<double, 256> texture_hist{};
   bool by_texture = false;
-  if (cfg.texture_weighted_brightness && cfg.method == EnhanceMethod::kIraf && res.t > 0.0) {
+  if (cfg.texture_weighted_brightness && cfg.method == EnhanceMethod::kIraf &&
+      res.brightness == BrightnessClass::kBright) {  // a lower mean cannot change a normal frame
     texture_hist = textureWeightedHistogram(gray);
     res.mu_texture = histogramMean(texture_hist, -1.0);
     by_texture = res.mu_texture >= 0.0 && res.mu_texture < res.mu;  // a flat image has no texture: as printed
