@@ -49,9 +49,9 @@ PoseTrackingResult PoseTracker::trackLocalMap(Frame& cur, const Eigen::Isometry3
 }
 
 int PoseTracker::inliersFrom(const Frame& cur, const Eigen::Isometry3d& T_predicted, const Map& map,
-                             bool rough_prediction) const {
+                             bool prediction_unknown, bool rough_prediction) const {
   const std::vector<LocalPoint> local = map.localPoints(p_.predict_scale ? &cam_ : nullptr);
-  const Solution s = solve(cur, T_predicted, local, false, 0, rough_prediction);
+  const Solution s = solve(cur, T_predicted, local, prediction_unknown, 0, rough_prediction);
   return s.res.tracked ? s.res.inliers : 0;
 }
 

@@ -152,7 +152,9 @@ void Tracker::Impl::rankByTrackedInliers(const Frame& cur, std::vector<Relocaliz
   if (candidates->size() < 2) return;
   std::vector<std::pair<int, size_t>> order;  // (-inliers, rank from the relocalizer)
   for (size_t k = 0; k < candidates->size(); ++k)
-    order.emplace_back(-pose_tracker.inliersFrom(cur, (*candidates)[k].T_c_w, map, roughSeed((*candidates)[k])), k);
+    order.emplace_back(
+        -pose_tracker.inliersFrom(cur, (*candidates)[k].T_c_w, map, predictionUnknown(), roughSeed((*candidates)[k])),
+        k);
   std::sort(order.begin(), order.end());
   std::vector<RelocalizationCandidate> ranked;
   for (const auto& o : order) ranked.push_back((*candidates)[o.second]);
@@ -161,9 +163,8 @@ void Tracker::Impl::rankByTrackedInliers(const Frame& cur, std::vector<Relocaliz
 
 bool Tracker::Impl::trackFrom(Frame& cur, const Eigen::Isometry3d& T_last, const Eigen::Isometry3d& T_predicted,
                               TrackResult* res, int min_search_inliers, bool rough_prediction) {
-  // A metric (stereo) map without a motion model: the first frame after the stereo start or after a loss.
-  const PoseTrackingResult r = pose_tracker.trackLocalMap(cur, T_predicted, &map, metric_map && !have_velocity,
-                                                             min_search_inliers, rough_prediction);
+  const PoseTrackingResult r =
+      pose_tracker.trackLocalMap(cur, T_predicted, &map, predictionUnknown(), min_search_inliers, rough_prediction);
   res->matches = r.matches;
   res->inliers = r.inliers;
   res->used_pnp = r.used_pnp;

@@ -87,6 +87,9 @@ struct Tracker::Impl {
   void rankByTrackedInliers(const Frame& cur, std::vector<RelocalizationCandidate>* candidates) const;
   /// A PnP seed of fewer than kEnoughPnPInliers: the projection search is repeated around the refined pose.
   static bool roughSeed(const RelocalizationCandidate& c) { return c.pnp_inliers < Relocalizer::kEnoughPnPInliers; }
+  /// A metric (stereo) map without a motion model (the first frame after the stereo start or after a loss): the
+  /// pose tracking starts with brute force + PnP (PoseTracker::trackLocalMap's prediction_unknown).
+  bool predictionUnknown() const { return metric_map && !have_velocity; }
   bool trackFrom(Frame& cur, const Eigen::Isometry3d& T_last, const Eigen::Isometry3d& T_predicted, TrackResult* res,
                  int min_search_inliers = 0, bool rough_prediction = false);
   bool relocalizeAfterDarkness(Frame& cur, TrackResult* res);

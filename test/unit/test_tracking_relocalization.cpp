@@ -130,8 +130,8 @@ TEST(PoseTrackerRelocalization, SearchPoseAboveTheMinimumLosesToAStrongerPnPPose
 TEST(PoseTrackerRelocalization, InliersFromRanksTheTrueSeedAboveTheDecoyAndChangesNothing) {
   DecoyScene s(70);
   PoseTracker tracker(s.cam, s.params);
-  const int from_decoy = tracker.inliersFrom(s.cur, s.T_pred, s.map, true);
-  const int from_truth = tracker.inliersFrom(s.cur, s.T_true, s.map, true);
+  const int from_decoy = tracker.inliersFrom(s.cur, s.T_pred, s.map, false, true);
+  const int from_truth = tracker.inliersFrom(s.cur, s.T_true, s.map, false, true);
   EXPECT_GE(from_decoy, 60);
   EXPECT_GT(from_truth, from_decoy + 50);
   for (long id : s.cur.point_id) EXPECT_EQ(id, -1) << "the frame is untouched";
@@ -145,6 +145,22 @@ TEST(PoseTrackerRelocalization, InliersFromRanksTheTrueSeedAboveTheDecoyAndChang
   EXPECT_EQ(after.inliers, from_truth);
   EXPECT_EQ(after.inliers, untouched.inliers);
   EXPECT_LT(centreDistance(s.cur.T_c_w, fresh.cur.T_c_w), 1e-12);
+}
+
+// A metric map without a motion model tracks with brute force + PnP first (prediction_unknown): the ranking asks
+// the same question, so the decoy seed ranks where tracking from it ends (at the true pose), not where a search
+// around it would.
+TEST(PoseTrackerRelocalization, InliersFromAsksWhatTrackingWithoutAMotionModelDoes) {
+  DecoyScene s(70), m(70);
+  PoseTracker tracker(s.cam, s.params);
+  const int searched = tracker.inliersFrom(s.cur, s.T_pred, s.map, false, true);
+  const int unknown = tracker.inliersFrom(s.cur, s.T_pred, s.map, true, true);
+  const PoseTrackingResult tracked = PoseTracker(m.cam, m.params).trackLocalMap(m.cur, m.T_pred, &m.map, true, 0, true);
+  ASSERT_TRUE(tracked.tracked);
+  EXPECT_TRUE(tracked.used_pnp);
+  EXPECT_EQ(unknown, tracked.inliers);
+  EXPECT_GT(unknown, searched + 50);
+  EXPECT_LT(centreDistance(m.cur.T_c_w, m.T_true), 0.01);
 }
 
 }  // namespace

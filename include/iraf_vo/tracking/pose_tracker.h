@@ -58,9 +58,10 @@ class PoseTracker {
   PoseTrackingResult trackLocalMap(Frame& cur, const Eigen::Isometry3d& T_predicted, Map* map,
                                    bool prediction_unknown = false, int min_search_inliers = 0,
                                    bool rough_prediction = false) const;
-  /// The inliers trackLocalMap would end with from T_predicted (0: not tracked), without touching `cur` or `map`:
-  /// ranks the poses a relocalization could start from.
-  int inliersFrom(const Frame& cur, const Eigen::Isometry3d& T_predicted, const Map& map, bool rough_prediction) const;
+  /// The inliers trackLocalMap would end with from T_predicted with the same flags (0: not tracked), without
+  /// touching `cur` or `map`: ranks the poses a relocalization could start from.
+  int inliersFrom(const Frame& cur, const Eigen::Isometry3d& T_predicted, const Map& map, bool prediction_unknown,
+                  bool rough_prediction) const;
   /// Stereo: refines the tracked cur.T_c_w again with the right residuals of cur.right_obs (matched after the
   /// tracking, e.g. for a new keyframe); the keypoints whose point fails the chi2 test lose it (cur.point_id).
   /// Returns the right residuals in use, or -1 (cur unchanged) without right observations or with fewer than
