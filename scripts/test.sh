@@ -78,7 +78,7 @@ if [ "$(default_on_in_ci "${IRAF_VO_SANITIZE:-}")" = 1 ]; then
   export LSAN_OPTIONS="${LSAN_OPTIONS:-suppressions=$ROOT/test/sanitizers/lsan.supp:print_suppressions=0}"
   # Cases that repeat one code path many times for a statistic (120 two-view initializations; 300 tracked frames)
   # run in the main stage only: ~5-11x slower under ASan, they were 240 of the stage's ~620 test CPU seconds.
-  export GTEST_FILTER="${IRAF_VO_ASAN_GTEST_FILTER:-*-TrackingGeometry.TwoViewNoisyLowParallaxRefusesUndeterminedTranslations:PoseCovariance.ConsistentWithTheFrameToFrameErrorOnASimulation}"
+  export GTEST_FILTER="${IRAF_VO_ASAN_GTEST_FILTER:-*-TwoViewNoise.NoisyLowParallaxRefusesUndeterminedTranslations:PoseCovariance.ConsistentWithTheFrameToFrameErrorOnASimulation}"
   sanitizer_stage "ASan + UBSan" "${IRAF_VO_ASAN_BUILD_DIR:-$ROOT/build-asan}" ON gtest '^test_' ${targets[@]+"${targets[@]}"}
   unset GTEST_FILTER
 fi

@@ -249,7 +249,8 @@ void refineTwoView(const Hypothesis& best, const ForwardMatches& m, double focal
   }
 }
 
-// A planar scene leaves E undetermined (any translation fits), so only essential-matrix motions are checked.
+// A planar scene leaves E undetermined (any translation fits), so only essential-matrix motions and homographies
+// tried after the essential matrix scored higher (a scene with depth) are checked.
 void checkTranslationAmbiguity(const ForwardMatches& m, double focal, const TwoViewParams& params,
                                TwoViewResult* res) {
   MotionAmbiguityParams ap;
@@ -262,20 +263,22 @@ void checkTranslationAmbiguity(const ForwardMatches& m, double focal, const TwoV
   res->ok = false;
   if (!a.ambiguous) {
     char few[160];
-    std::snprintf(few, sizeof(few), "essential: parallax too low (%d-th point %.2f deg) for a translation this weakly "
-                  "determined (profile chi2 %.1f < %.0f)", params.determined_parallax_points, res->parallax_deg,
-                  a.profile_chi2, params.determined_min_chi2);
+    std::snprintf(few, sizeof(few),
+                  "%s: parallax too low (%d-th point %.2f deg) for a translation this weakly determined (profile chi2 "
+                  "%.1f < %.0f)",
+                  res->model.c_str(), params.determined_parallax_points, res->parallax_deg, a.profile_chi2,
+                  params.determined_min_chi2);
     res->reason = few;
     return;
   }
   char buf[160];
   if (a.refined_shift_deg >= ap.min_angle_deg)
-    std::snprintf(buf, sizeof(buf), "essential: translation not determined (refined on all matches it moves %.0f deg)",
-                  a.refined_shift_deg);
+    std::snprintf(buf, sizeof(buf), "%s: translation not determined (refined on all matches it moves %.0f deg)",
+                  res->model.c_str(), a.refined_shift_deg);
   else
     std::snprintf(buf, sizeof(buf),
-                  "essential: translation not determined (a direction %.0f deg away: profile chi2 %.1f < %.2f)",
-                  a.angle_deg, a.profile_chi2, params.ambiguity_max_chi2);
+                  "%s: translation not determined (a direction %.0f deg away: profile chi2 %.1f < %.2f)",
+                  res->model.c_str(), a.angle_deg, a.profile_chi2, params.ambiguity_max_chi2);
   res->reason = buf;
 }
 
@@ -348,7 +351,9 @@ TwoViewResult initializeTwoView(const std::vector<Eigen::Vector3d>& b1, const st
     }
   }
   if (best) refineTwoView(*best, m, focal, params, &res);
-  if (res.ok && res.model == "essential" && params.ambiguity_max_chi2 > 0.0)
+  const bool fallback_homography = !use_h && res.model == "homography";
+  if (res.ok && params.ambiguity_max_chi2 > 0.0 &&
+      (res.model == "essential" || (fallback_homography && params.check_fallback_homography)))
     checkTranslationAmbiguity(m, focal, params, &res);
   if (!res.ok) {
     char buf[96];

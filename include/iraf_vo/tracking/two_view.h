@@ -31,6 +31,10 @@ struct TwoViewParams {
   // matches about as well (profile chi2 < ambiguity_max_chi2, two_view_ambiguity.h); 0 = no check.
   double ambiguity_max_chi2 = 9.21;
   double ambiguity_angle_deg = 20.0;
+  // The same check for a homography tried after the essential matrix (which scored higher: the scene has depth
+  // off any plane, so the matches do determine a true translation) failed: with noisy keypoints and little
+  // parallax its decomposition trades rotation for a spurious translation that passes the parallax test.
+  bool check_fallback_homography = true;
   bool ba_use_ceres = false;  // the motion refinement's BAOptions::use_ceres (TrackerParams::ba_use_ceres)
 };
 
