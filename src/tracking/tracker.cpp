@@ -7,6 +7,7 @@
 #include "iraf_vo/tracking/pose_covariance.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -174,6 +175,13 @@ bool Tracker::Impl::trackFrom(Frame& cur, const Eigen::Isometry3d& T_last, const
   if (signal.awaitingRelocalization() && r.inliers < Relocalizer::kMinAcceptedInliers) {
     res->rejected = "relocalization after darkness: " + std::to_string(r.inliers) + " map inliers < " +
                     std::to_string(Relocalizer::kMinAcceptedInliers);
+    return false;
+  }
+  if (signal.awaitingRelocalization() && farPointsOnly(r)) {
+    char buf[96];
+    std::snprintf(buf, sizeof(buf), "relocalization after darkness: inliers at %.1fx the depth tracked before",
+                  r.median_depth / last_median_depth);
+    res->rejected = buf;
     return false;
   }
   res->inlier_ratio = r.refine_matches > 0 ? static_cast<double>(r.inliers) / r.refine_matches : 0.0;

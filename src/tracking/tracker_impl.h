@@ -90,6 +90,12 @@ struct Tracker::Impl {
   /// A metric (stereo) map without a motion model (the first frame after the stereo start or after a loss): the
   /// pose tracking starts with brute force + PnP (PoseTracker::trackLocalMap's prediction_unknown).
   bool predictionUnknown() const { return metric_map && !have_velocity; }
+  /// A pose whose inliers' median depth exceeds dark_relocalization_max_depth_ratio x the last tracked frame's (on a
+  /// washed-out frame only the far points may match; their depth is the least known, the pose 0.1 m off).
+  bool farPointsOnly(const PoseTrackingResult& r) const {
+    return p.dark_relocalization_max_depth_ratio > 0.0 && r.has_median_depth && last_median_depth > 0.0 &&
+           r.median_depth > p.dark_relocalization_max_depth_ratio * last_median_depth;
+  }
   bool trackFrom(Frame& cur, const Eigen::Isometry3d& T_last, const Eigen::Isometry3d& T_predicted, TrackResult* res,
                  int min_search_inliers = 0, bool rough_prediction = false);
   bool relocalizeAfterDarkness(Frame& cur, TrackResult* res);

@@ -130,6 +130,9 @@ struct TrackerParams {
   int dark_relocalization_frames = 40;  // for this many frames after dark ones a loss resets the map only after
                                         // this many lost frames (instead of lost_frames_before_reset): the
                                         // tracker relocalizes in the same map meanwhile
+  double dark_relocalization_max_depth_ratio = 2.5;  // a relocalization after darkness is refused while its inliers'
+                                        // median depth exceeds this multiple of the last tracked frame's: a pose
+                                        // on far points only rests on their poorly known depth (0 = no check)
   // ---- health monitor (health_monitor.h): a pose that fails a check is reported LOST, never TRACKING ----
   bool health_monitor = true;
   double health_min_inlier_ratio = 0.5;    // inliers / matches of the final pose refinement
