@@ -7,7 +7,6 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -212,6 +211,29 @@ iraf_vo::EvalResult evaluate(const iraf_vo::Trajectory& gt, const iraf_vo::Traje
   return r;
 }
 
+// The largest distance to the ground truth of a pose of `est` with stamp >= t0, mapped by `alignment` (e.g. the one
+// of the poses before a darkness); *stamp: that pose's stamp. A pose without ground truth after it is a failure.
+double worstPoseFrom(const iraf_vo::Trajectory& gt, const iraf_vo::Trajectory& est, const iraf_vo::Sim3& alignment,
+                     double t0, double* stamp = nullptr) {
+  std::map<double, Eigen::Vector3d> truth;
+  for (size_t i = 0; i < gt.size(); ++i) truth[gt.stamps[i]] = gt.poses[i].translation();
+  double worst = 0.0;
+  for (size_t i = 0; i < est.size(); ++i) {
+    if (est.stamps[i] < t0) continue;
+    const auto it = truth.lower_bound(est.stamps[i] - 1e-3);
+    if (it == truth.end()) {
+      ADD_FAILURE() << "no ground truth at or after " << est.stamps[i];
+      continue;
+    }
+    const double e = (alignment.apply(est.poses[i].translation()) - it->second).norm();
+    if (e > worst) {
+      worst = e;
+      if (stamp) *stamp = est.stamps[i];
+    }
+  }
+  return worst;
+}
+
 // iraf_vo_run with default settings on `seq`: seq/traj.txt, seq/stats.json, seq/frames.csv.
 bool runTracked(const std::string& seq, std::string* out) {
   return runCommand(kBin + "/iraf_vo_run --dataset " + seq + " --mode iraf --quiet --out " + seq + "/traj.txt" +
@@ -322,16 +344,8 @@ TEST(TrackingDarkness, AViewSeenFromFarAwayIsNoRelocalization) {
   EXPECT_EQ(relocalizations + resets, 1.0) << stats;
   if (relocalizations != 1.0) return;  // a new map: its poses are in a new frame
   // Relocalized in the kept map: the poses after the darkness in the alignment of the poses before it.
-  std::map<double, Eigen::Vector3d> truth;
-  for (size_t i = 0; i < gt.size(); ++i) truth[gt.stamps[i]] = gt.poses[i].translation();
-  double worst = 0.0, worst_stamp = 0.0;
-  for (size_t i = 0; i < est.size(); ++i) {
-    if (est.stamps[i] < t_light) continue;
-    const auto it = truth.lower_bound(est.stamps[i] - 1e-3);
-    ASSERT_TRUE(it != truth.end());
-    const double e = (before.alignment.apply(est.poses[i].translation()) - it->second).norm();
-    if (e > worst) worst = e, worst_stamp = est.stamps[i];
-  }
+  double worst_stamp = 0.0;
+  const double worst = worstPoseFrom(gt, est, before.alignment, t_light, &worst_stamp);
   EXPECT_LE(worst, 0.05 * before.gt_length) << "the pose at " << worst_stamp << " is " << worst << " m off";
 }
 
@@ -414,15 +428,7 @@ TEST(TrackingDarkness, RelocalizationOnFarPointsOnlyIsRefused) {
     const double t_dark = rows.at(first_dark).stamp - 1e-3;
     const iraf_vo::EvalResult before = evaluate(gt, est, 0.0, t_dark);
     ASSERT_LE(before.ate.rmse, 0.01);
-    std::map<double, Eigen::Vector3d> truth;
-    for (size_t i = 0; i < gt.size(); ++i) truth[gt.stamps[i]] = gt.poses[i].translation();
-    *worst = 0.0;
-    for (size_t i = 0; i < est.size(); ++i) {
-      if (est.stamps[i] < t_dark) continue;
-      const auto it = truth.lower_bound(est.stamps[i] - 1e-3);
-      ASSERT_TRUE(it != truth.end());
-      *worst = std::max(*worst, (before.alignment.apply(est.poses[i].translation()) - it->second).norm());
-    }
+    *worst = worstPoseFrom(gt, est, before.alignment, t_dark);
   };
   double unchecked = 0.0, checked = 0.0;
   worstAfterTheDark("unchecked", "--set tracker.dark_relocalization_max_depth_ratio=0", &unchecked);
