@@ -215,7 +215,7 @@ EnhanceResult Enhancer::enhance(const cv::Mat& gray, const EnhanceParams& cfg) {
   std::array<double, 256> texture_hist{};
   bool by_texture = false;
   if (cfg.texture_weighted_brightness && cfg.method == EnhanceMethod::kIraf &&
-      res.brightness == BrightnessClass::kBright) {  // a lower mean cannot change a normal frame
+      res.brightness == BrightnessClass::kBright) {  // only a bright frame is judged again (dim: as printed)
     texture_hist = textureWeightedHistogram(gray);
     res.mu_texture = histogramMean(texture_hist, -1.0);
     by_texture = res.mu_texture >= 0.0 && res.mu_texture < res.mu;  // a flat image has no texture: as printed
