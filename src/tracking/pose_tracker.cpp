@@ -70,17 +70,33 @@ PoseTracker::Solution PoseTracker::solve(const Frame& cur, const Eigen::Isometry
     // No motion model: a projection search around T_predicted finds only the far points when the camera moved
     // fast, and a pose from them alone comes out short. Brute force + PnP first; the projection search if it fails.
     // A PnP with fewer inliers than tracking needs (a wide fisheye: the RANSAC's threshold on the normalized plane
-    // drops the peripheral matches) still predicts the step: the search starts there when it finds more there.
+    // drops the peripheral matches) still predicts the step.
     Eigen::Isometry3d T_pnp = T;
     MatchSet pnp_matches(cur.size(), local.size());
     const int n_pnp = relocalize(cur, local, &pnp_matches, &T_pnp, kMinPnPPrediction);
-    if (n_pnp >= p_.min_tracking_inliers) {
-      matches = pnp_matches;
-      T = T_pnp;
-      n = n_pnp;
-      res.used_pnp = true;
-    } else if (n_pnp > 0 && searchesMore(cur, local, T_pnp, T)) {
-      T = T_pnp;
+    // On far points the PnP's direction of motion is better known than its length, which comes out short: the
+    // motion lengthened 2x and 4x compete with it and with the last pose, judged by the inliers of a search and
+    // refinement from each.
+    if (n_pnp > 0) {
+      const Eigen::Isometry3d motion = T_pnp * T.inverse();
+      int best = inliersFromStart(cur, local, T);
+      int best_k = 0;
+      for (int k : {1, 2, 4}) {
+        Eigen::Isometry3d M = motion;
+        M.translation() *= k;
+        const int n_k = inliersFromStart(cur, local, M * T);
+        if (n_k > best) best = n_k, best_k = k;
+      }
+      if (best_k == 1 && n_pnp >= p_.min_tracking_inliers) {
+        matches = pnp_matches;
+        T = T_pnp;
+        n = n_pnp;
+        res.used_pnp = true;
+      } else if (best_k > 0) {
+        Eigen::Isometry3d M = motion;
+        M.translation() *= best_k;
+        T = M * T;
+      }
     }
   }
   if (!res.used_pnp) {
@@ -259,11 +275,14 @@ int PoseTracker::refinePose(const Frame& f, const std::vector<LocalPoint>& local
   return n;
 }
 
-bool PoseTracker::searchesMore(const Frame& f, const std::vector<LocalPoint>& local, const Eigen::Isometry3d& T_a,
-                               const Eigen::Isometry3d& T_b) const {
-  MatchSet a(f.size(), local.size()), b(f.size(), local.size());
-  return matcher_.searchByProjection(f, T_a, local, p_.search_radius_px, 1, &a, nullptr) >
-         matcher_.searchByProjection(f, T_b, local, p_.search_radius_px, 1, &b, nullptr);
+int PoseTracker::inliersFromStart(const Frame& f, const std::vector<LocalPoint>& local, Eigen::Isometry3d T) const {
+  MatchSet m(f.size(), local.size());
+  if (matcher_.searchByProjection(f, T, local, p_.search_radius_px, 1, &m, nullptr) < p_.min_search_matches) {
+    m.clear();
+    if (matcher_.searchByProjection(f, T, local, p_.search_radius_wide_px, 2, &m, nullptr) < p_.min_search_matches)
+      return 0;
+  }
+  return refinePose(f, local, &m, &T);
 }
 
 int PoseTracker::relocalize(const Frame& f, const std::vector<LocalPoint>& local, MatchSet* matches,

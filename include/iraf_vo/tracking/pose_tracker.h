@@ -99,9 +99,8 @@ class PoseTracker {
   /// matches entering the refinement, its inliers and right inliers, the time of both into *res.
   void narrowPass(const Frame& f, const std::vector<LocalPoint>& local, MatchSet* matches, Eigen::Isometry3d* T,
                   std::vector<char>* visible, PoseTrackingResult* res) const;
-  /// Whether the projection search finds more matches around T_a than around T_b.
-  bool searchesMore(const Frame& f, const std::vector<LocalPoint>& local, const Eigen::Isometry3d& T_a,
-                    const Eigen::Isometry3d& T_b) const;
+  /// The inliers of a projection search (narrow, then wide) and a pose refinement starting from T.
+  int inliersFromStart(const Frame& f, const std::vector<LocalPoint>& local, Eigen::Isometry3d T) const;
 
   /// A PnP with this many inliers predicts the first step after a stereo start (ORB-SLAM's relocalization
   /// optimizes from 10 PnP inliers).
