@@ -79,12 +79,15 @@ PoseTracker::Solution PoseTracker::solve(const Frame& cur, const Eigen::Isometry
     // refinement from each.
     if (n_pnp > 0) {
       const Eigen::Isometry3d motion = T_pnp * T.inverse();
+      const auto lengthened = [&](int k) {  // the PnP's motion, its translation x k, from the last pose
+        Eigen::Isometry3d M = motion;
+        M.translation() *= k;
+        return Eigen::Isometry3d(M * T);
+      };
       int best = inliersFromStart(cur, local, T);
       int best_k = 0;
       for (int k : {1, 2, 4}) {
-        Eigen::Isometry3d M = motion;
-        M.translation() *= k;
-        const int n_k = inliersFromStart(cur, local, M * T);
+        const int n_k = inliersFromStart(cur, local, lengthened(k));
         if (n_k > best) best = n_k, best_k = k;
       }
       if (best_k == 1 && n_pnp >= p_.min_tracking_inliers) {
@@ -93,19 +96,11 @@ PoseTracker::Solution PoseTracker::solve(const Frame& cur, const Eigen::Isometry
         n = n_pnp;
         res.used_pnp = true;
       } else if (best_k > 0) {
-        Eigen::Isometry3d M = motion;
-        M.translation() *= best_k;
-        T = M * T;
+        T = lengthened(best_k);
       }
     }
   }
-  if (!res.used_pnp) {
-    n = matcher_.searchByProjection(cur, T, local, p_.search_radius_px, 1, &matches, nullptr);
-    if (n < p_.min_search_matches) {
-      matches.clear();
-      n = matcher_.searchByProjection(cur, T, local, p_.search_radius_wide_px, 2, &matches, nullptr);
-    }
-  }
+  if (!res.used_pnp) n = searchAround(cur, T, local, &matches);
   res.ms_match += msSince(t0);
   int inliers = 0;
   if (res.used_pnp || n >= p_.min_search_matches) {
@@ -275,13 +270,17 @@ int PoseTracker::refinePose(const Frame& f, const std::vector<LocalPoint>& local
   return n;
 }
 
+int PoseTracker::searchAround(const Frame& f, const Eigen::Isometry3d& T, const std::vector<LocalPoint>& local,
+                              MatchSet* matches) const {
+  const int n = matcher_.searchByProjection(f, T, local, p_.search_radius_px, 1, matches, nullptr);
+  if (n >= p_.min_search_matches) return n;
+  matches->clear();
+  return matcher_.searchByProjection(f, T, local, p_.search_radius_wide_px, 2, matches, nullptr);
+}
+
 int PoseTracker::inliersFromStart(const Frame& f, const std::vector<LocalPoint>& local, Eigen::Isometry3d T) const {
   MatchSet m(f.size(), local.size());
-  if (matcher_.searchByProjection(f, T, local, p_.search_radius_px, 1, &m, nullptr) < p_.min_search_matches) {
-    m.clear();
-    if (matcher_.searchByProjection(f, T, local, p_.search_radius_wide_px, 2, &m, nullptr) < p_.min_search_matches)
-      return 0;
-  }
+  if (searchAround(f, T, local, &m) < p_.min_search_matches) return 0;
   return refinePose(f, local, &m, &T);
 }
 

@@ -99,7 +99,10 @@ class PoseTracker {
   /// matches entering the refinement, its inliers and right inliers, the time of both into *res.
   void narrowPass(const Frame& f, const std::vector<LocalPoint>& local, MatchSet* matches, Eigen::Isometry3d* T,
                   std::vector<char>* visible, PoseTrackingResult* res) const;
-  /// The inliers of a projection search (narrow, then wide) and a pose refinement starting from T.
+  /// The projection search around T: narrow, then wide when the narrow one finds fewer than min_search_matches.
+  int searchAround(const Frame& f, const Eigen::Isometry3d& T, const std::vector<LocalPoint>& local,
+                   MatchSet* matches) const;
+  /// The inliers of searchAround(T) and a pose refinement from T (0 below min_search_matches).
   int inliersFromStart(const Frame& f, const std::vector<LocalPoint>& local, Eigen::Isometry3d T) const;
 
   /// A PnP with this many inliers predicts the first step after a stereo start (ORB-SLAM's relocalization
