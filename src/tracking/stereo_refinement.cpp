@@ -1,5 +1,7 @@
 #include "iraf_vo/tracking/stereo_refinement.h"
 
+#include <Eigen/Cholesky>
+
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -47,6 +49,75 @@ bool samplePatch(const cv::Mat& im, const Eigen::Vector2d& centre, double step, 
   return true;
 }
 
+/// The right patch for a shift along `dir` that changes over the patch: sample (x, y) at centre + step (x, y) + dir
+/// (shift + stretch u + shear v), u and v the sample's offset along and across dir [px]. Mean removed; false outside
+/// the image.
+bool sampleSlanted(const cv::Mat& im, const Eigen::Vector2d& centre, double step, int w, const Eigen::Vector2d& dir,
+                   double shift, double stretch, double shear, std::vector<float>* out) {
+  const Eigen::Vector2d across(-dir.y(), dir.x());
+  const int n = 2 * w + 1;
+  out->resize(static_cast<size_t>(n) * static_cast<size_t>(n));
+  double sum = 0.0;
+  float* o = out->data();
+  for (int y = -w; y <= w; ++y)
+    for (int x = -w; x <= w; ++x) {
+      const Eigen::Vector2d off(x * step, y * step);
+      const Eigen::Vector2d q = centre + off + dir * (shift + stretch * off.dot(dir) + shear * off.dot(across));
+      if (!(q.x() >= 0.0 && q.y() >= 0.0 && q.x() < im.cols - 1 && q.y() < im.rows - 1)) return false;
+      const int u0 = static_cast<int>(q.x()), v0 = static_cast<int>(q.y());
+      const float au = static_cast<float>(q.x() - u0), av = static_cast<float>(q.y() - v0);
+      const uint8_t* r0 = im.ptr<uint8_t>(v0) + u0;
+      const uint8_t* r1 = im.ptr<uint8_t>(v0 + 1) + u0;
+      const float s = (1.f - av) * ((1.f - au) * r0[0] + au * r0[1]) + av * ((1.f - au) * r1[0] + au * r1[1]);
+      *o++ = s;
+      sum += s;
+    }
+  const float mean = static_cast<float>(sum / static_cast<double>(out->size()));
+  for (float& s : *out) s -= mean;
+  return true;
+}
+
+/// Gauss-Newton on the squared differences of the left patch `pl` and the slanted right patch, over the shift at the
+/// centre, its stretch along `dir` and its shear across it (both in px of shift per px, starting at 0). The gradient
+/// along dir is the mean of both patches' (ESM; `plp` / `plm`: the left patch moved by +-h along dir). The slopes are
+/// damped towards 0 (a patch with texture along one line cannot tell them) and bounded by 1 (45 degrees of shear);
+/// the shift moves at most half a step per iteration. false when a patch leaves the image.
+bool slantedGaussNewton(const cv::Mat& right, const std::vector<float>& pl, const std::vector<float>& plp,
+                        const std::vector<float>& plm, const Eigen::Vector2d& uv_r, const Eigen::Vector2d& dir,
+                        double step, int w, double h, int iterations, double* offset) {
+  const Eigen::Vector2d across(-dir.y(), dir.x());
+  double stretch = 0.0, shear = 0.0;
+  std::vector<float> p0, pp, pm;
+  for (int it = 0; it < iterations; ++it) {
+    if (!sampleSlanted(right, uv_r, step, w, dir, *offset, stretch, shear, &p0) ||
+        !sampleSlanted(right, uv_r, step, w, dir, *offset + h, stretch, shear, &pp) ||
+        !sampleSlanted(right, uv_r, step, w, dir, *offset - h, stretch, shear, &pm))
+      return false;
+    Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d b = Eigen::Vector3d::Zero();
+    size_t q = 0;
+    for (int y = -w; y <= w; ++y)
+      for (int x = -w; x <= w; ++x, ++q) {
+        const Eigen::Vector2d off(x * step, y * step);
+        const double g = ((pp[q] - pm[q]) + (plp[q] - plm[q])) / (4.0 * h);
+        const Eigen::Vector3d J(g, g * off.dot(dir), g * off.dot(across));
+        H.selfadjointView<Eigen::Lower>().rankUpdate(J);
+        b += J * (pl[q] - p0[q]);
+      }
+    H = H.selfadjointView<Eigen::Lower>();
+    if (!(H(0, 0) > 0.0)) break;
+    const double damping = 1e-3 * H(0, 0) * (w * step) * (w * step);
+    H(1, 1) += damping;
+    H(2, 2) += damping;
+    const Eigen::Vector3d d = H.ldlt().solve(b);
+    if (!d.allFinite()) break;
+    *offset += std::max(-0.5 * step, std::min(0.5 * step, d(0)));
+    stretch = std::max(-1.0, std::min(1.0, stretch + d(1)));
+    shear = std::max(-1.0, std::min(1.0, shear + d(2)));
+  }
+  return true;
+}
+
 }  // namespace
 
 bool refineAlongEpipolar(const cv::Mat& left, const cv::Mat& right, const Eigen::Vector2d& uv_l,
@@ -78,6 +149,12 @@ bool refineAlongEpipolar(const cv::Mat& left, const cv::Mat& right, const Eigen:
   if (search.gauss_newton_steps > 0 && (!samplePatch(left, uv_l + direction * h, step, w, &plp) ||
                                         !samplePatch(left, uv_l - direction * h, step, w, &plm)))
     return false;
+  if (search.slanted) {
+    if (!slantedGaussNewton(right, pl, plp, plm, uv_r, direction, step, w, h, search.gauss_newton_steps, &offset))
+      return false;
+    *refined = uv_r + direction * offset;
+    return true;
+  }
   for (int it = 0; it < search.gauss_newton_steps; ++it) {
     const Eigen::Vector2d at = uv_r + direction * offset;
     if (!samplePatch(right, at, step, w, &p0) || !samplePatch(right, at + direction * h, step, w, &pp) ||
