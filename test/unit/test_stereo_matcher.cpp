@@ -81,6 +81,16 @@ void checkSyntheticPair(CameraModelPtr cam) {
   for (const StereoMatch& m : matches) EXPECT_LE(m.depth(), matcher.maxDepth());
 }
 
+/// 640 x 480 random 8 x 8 px blocks (seed), blurred by sigma px: texture for the patch fits.
+cv::Mat blockTexture(int seed, double sigma) {
+  cv::RNG rng(seed);
+  cv::Mat coarse(60, 80, CV_8UC1), tex;
+  rng.fill(coarse, cv::RNG::UNIFORM, 0, 255);
+  cv::resize(coarse, tex, cv::Size(640, 480), 0, 0, cv::INTER_NEAREST);
+  cv::GaussianBlur(tex, tex, cv::Size(0, 0), sigma);
+  return tex;
+}
+
 /// A textured plane z = depth (blocks of 0.2 m, blurred) seen by a pinhole camera at x = offset [m]: 8-bit image.
 cv::Mat planeImage(const cv::Mat& texture, double texel_m, const PinholeRadtan& cam, double depth, double offset) {
   cv::Mat mx(cam.height(), cam.width(), CV_32FC1), my(cam.height(), cam.width(), CV_32FC1);
@@ -124,11 +134,7 @@ TEST(StereoRefinement, FindsASubPixelShiftAlongTheRow) {
 // The parabola through three SAD samples pulls the fit towards the sample grid: at level pixels of 1.2 and 1.44,
 // 0.135 / 0.153 px rms over every fractional shift; after the Gauss-Newton steps 0.048 / 0.038 px.
 TEST(StereoRefinement, SubPixelFitIsNotPulledToTheSampleGrid) {
-  cv::RNG rng(3);
-  cv::Mat coarse(60, 80, CV_8UC1), tex;
-  rng.fill(coarse, cv::RNG::UNIFORM, 0, 255);
-  cv::resize(coarse, tex, cv::Size(640, 480), 0, 0, cv::INTER_NEAREST);
-  cv::GaussianBlur(tex, tex, cv::Size(0, 0), 1.0);
+  const cv::Mat tex = blockTexture(3, 1.0);
   EpipolarPatchSearch parabola_only;
   parabola_only.gauss_newton_steps = 0;
   for (const double step : {1.2, 1.44}) {  // octaves 1 and 2
@@ -165,12 +171,8 @@ TEST(StereoRefinement, SubPixelFitIsNotPulledToTheSampleGrid) {
 // texture strong in one half of the patch and faint in the other (a lane marking's edge, a kerb) one shift for the
 // whole patch is pulled towards the strong half's disparity; the slanted fit keeps the disparity of the centre.
 TEST(StereoRefinement, SlantedSurfaceKeepsTheDisparityOfThePatchCentre) {
-  cv::RNG rng(5);
-  cv::Mat coarse(60, 80, CV_8UC1), tex;
-  rng.fill(coarse, cv::RNG::UNIFORM, 0, 255);
-  cv::resize(coarse, tex, cv::Size(640, 480), 0, 0, cv::INTER_NEAREST);
-  cv::GaussianBlur(tex, tex, cv::Size(0, 0), 1.5);
-  tex.convertTo(tex, CV_32F);
+  cv::Mat tex;
+  blockTexture(5, 1.5).convertTo(tex, CV_32F);
   for (int v = 0; v < tex.rows; ++v) {  // bands of 20 rows: full contrast, then a fifth of it
     const float gain = (v / 20) % 2 == 0 ? 1.f : 0.2f;
     for (int u = 0; u < tex.cols; ++u) tex.at<float>(v, u) = 128.f + gain * (tex.at<float>(v, u) - 128.f);
