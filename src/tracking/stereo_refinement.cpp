@@ -118,6 +118,29 @@ bool slantedGaussNewton(const cv::Mat& right, const std::vector<float>& pl, cons
   return true;
 }
 
+/// Gauss-Newton on the squared differences of the left patch `pl` and the right patch over one shift along `dir` for
+/// the whole patch (the arguments as for slantedGaussNewton). false when a patch leaves the image.
+bool shiftGaussNewton(const cv::Mat& right, const std::vector<float>& pl, const std::vector<float>& plp,
+                      const std::vector<float>& plm, const Eigen::Vector2d& uv_r, const Eigen::Vector2d& dir,
+                      double step, int w, double h, int iterations, double* offset) {
+  std::vector<float> p0, pp, pm;
+  for (int it = 0; it < iterations; ++it) {
+    const Eigen::Vector2d at = uv_r + dir * *offset;
+    if (!samplePatch(right, at, step, w, &p0) || !samplePatch(right, at + dir * h, step, w, &pp) ||
+        !samplePatch(right, at - dir * h, step, w, &pm))
+      return false;
+    double num = 0.0, gg = 0.0;
+    for (size_t q = 0; q < pl.size(); ++q) {
+      const double g = ((pp[q] - pm[q]) + (plp[q] - plm[q])) / (4.0 * h);
+      num += (pl[q] - p0[q]) * g;
+      gg += g * g;
+    }
+    if (!(gg > 0.0)) break;
+    *offset += std::max(-0.5 * step, std::min(0.5 * step, num / gg));
+  }
+  return true;
+}
+
 }  // namespace
 
 bool refineAlongEpipolar(const cv::Mat& left, const cv::Mat& right, const Eigen::Vector2d& uv_l,
@@ -145,30 +168,12 @@ bool refineAlongEpipolar(const cv::Mat& left, const cv::Mat& right, const Eigen:
   // 1.2-1.4). Gauss-Newton on the sum of squared differences, with the mean of the two patches' gradients along the
   // direction (ESM), takes the fit off the grid.
   constexpr double h = 0.5;  // px: the central differences' half span
-  std::vector<float> plp, plm, p0, pp, pm;
+  std::vector<float> plp, plm;
   if (search.gauss_newton_steps > 0 && (!samplePatch(left, uv_l + direction * h, step, w, &plp) ||
                                         !samplePatch(left, uv_l - direction * h, step, w, &plm)))
     return false;
-  if (search.slanted) {
-    if (!slantedGaussNewton(right, pl, plp, plm, uv_r, direction, step, w, h, search.gauss_newton_steps, &offset))
-      return false;
-    *refined = uv_r + direction * offset;
-    return true;
-  }
-  for (int it = 0; it < search.gauss_newton_steps; ++it) {
-    const Eigen::Vector2d at = uv_r + direction * offset;
-    if (!samplePatch(right, at, step, w, &p0) || !samplePatch(right, at + direction * h, step, w, &pp) ||
-        !samplePatch(right, at - direction * h, step, w, &pm))
-      return false;
-    double num = 0.0, gg = 0.0;
-    for (size_t q = 0; q < pl.size(); ++q) {
-      const double g = ((pp[q] - pm[q]) + (plp[q] - plm[q])) / (4.0 * h);
-      num += (pl[q] - p0[q]) * g;
-      gg += g * g;
-    }
-    if (!(gg > 0.0)) break;
-    offset += std::max(-0.5 * step, std::min(0.5 * step, num / gg));
-  }
+  const auto gaussNewton = search.slanted ? slantedGaussNewton : shiftGaussNewton;
+  if (!gaussNewton(right, pl, plp, plm, uv_r, direction, step, w, h, search.gauss_newton_steps, &offset)) return false;
   *refined = uv_r + direction * offset;
   return true;
 }
