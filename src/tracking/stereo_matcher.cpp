@@ -188,10 +188,12 @@ std::vector<StereoMapPoint> stereoMapPoints(const std::vector<StereoMatch>& matc
   return out;
 }
 
-int closeWithoutPoint(const std::vector<StereoMatch>& matches, const Frame& left, double close_depth) {
-  return static_cast<int>(std::count_if(matches.begin(), matches.end(), [&](const StereoMatch& m) {
+double closeShareWithoutPoint(const std::vector<StereoMatch>& matches, const Frame& left, double close_depth) {
+  if (left.size() == 0) return 0.0;
+  const auto n = std::count_if(matches.begin(), matches.end(), [&](const StereoMatch& m) {
     return left.point_id[m.left] < 0 && m.depth() <= close_depth;
-  }));
+  });
+  return static_cast<double>(n) / static_cast<double>(left.size());
 }
 
 }  // namespace iraf_vo

@@ -263,7 +263,7 @@ bool Tracker::Impl::addKeyframeIfNeeded(Frame& cur, TrackResult* res) {
     // Matched only now (stereo_match_every_frame false): the keyframe's pose again, with its right residuals.
     if (!p.stereo_match_every_frame) res->right_inliers = std::max(0, pose_tracker.refineWithRight(cur, map));
     stereo_points = stereoMapPoints(m, cur, true);
-    kf_close_untracked = closeWithoutPoint(m, cur, stereo->closeDepth());
+    kf_close_untracked = closeShareWithoutPoint(m, cur, stereo->closeDepth());
   }
   // mapped right here: the next frames match its new points (stereo: its close points first)
   last_kf_id = mapper.addKeyframe(cur, stereo_points);

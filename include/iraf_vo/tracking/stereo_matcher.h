@@ -82,7 +82,8 @@ class StereoMatcher {
 /// The matches as map points in the world (left.T_c_w), for the left keypoints without a map point
 /// (left.point_id < 0) when only_new, else for all.
 std::vector<StereoMapPoint> stereoMapPoints(const std::vector<StereoMatch>& matches, const Frame& left, bool only_new);
-/// The matches within close_depth whose left keypoint has no map point (left.point_id < 0).
-int closeWithoutPoint(const std::vector<StereoMatch>& matches, const Frame& left, double close_depth);
+/// The matches within close_depth whose left keypoint has no map point (left.point_id < 0), per keypoint of left
+/// (0 without keypoints).
+double closeShareWithoutPoint(const std::vector<StereoMatch>& matches, const Frame& left, double close_depth);
 
 }  // namespace iraf_vo
