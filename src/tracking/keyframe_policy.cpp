@@ -13,7 +13,7 @@ bool needNewKeyframe(const KeyframeCandidate& c, const TrackerParams& p) {
   const bool few_tracked = c.inliers < p.keyframe_tracked_ratio * c.reference_tracked && (timeout || mapping_idle);
   const bool timeout_and_changed = timeout && c.inliers < 0.98 * c.reference_tracked;
   const bool stereo_needs_close = c.stereo_close_tracked >= 0 && c.stereo_close_tracked < kStereoCloseTracked &&
-                                  c.stereo_close_untracked > kStereoCloseUntrackedShare;
+                                  c.stereo_close_untracked_share > kStereoCloseUntrackedShare;
   return losing_map || few_tracked || timeout_and_changed || stereo_needs_close;
 }
 

@@ -253,7 +253,7 @@ bool Tracker::Impl::addKeyframeIfNeeded(Frame& cur, TrackResult* res) {
     }
     if (stereo) {  // the stereo close-point rule (keyframe_policy.h)
       c.stereo_close_tracked = map.pointsNearerThan(cur.point_id, cur.T_c_w, stereo->closeDepth());
-      c.stereo_close_untracked = kf_close_untracked;
+      c.stereo_close_untracked_share = kf_close_untracked_share;
     }
   }
   if (!needNewKeyframe(c, p)) return false;
@@ -263,7 +263,7 @@ bool Tracker::Impl::addKeyframeIfNeeded(Frame& cur, TrackResult* res) {
     // Matched only now (stereo_match_every_frame false): the keyframe's pose again, with its right residuals.
     if (!p.stereo_match_every_frame) res->right_inliers = std::max(0, pose_tracker.refineWithRight(cur, map));
     stereo_points = stereoMapPoints(m, cur, true);
-    kf_close_untracked = closeShareWithoutPoint(m, cur, stereo->closeDepth());
+    kf_close_untracked_share = closeShareWithoutPoint(m, cur, stereo->closeDepth());
   }
   // mapped right here: the next frames match its new points (stereo: its close points first)
   last_kf_id = mapper.addKeyframe(cur, stereo_points);
@@ -318,7 +318,7 @@ void Tracker::Impl::resetMap() {
   last_kf_id = -1;
   last_ref_kf = -1;
   frames_since_kf = 0;
-  kf_close_untracked = 0;
+  kf_close_untracked_share = 0.0;
   consecutive_lost = 0;
   map_settled = true;
   state = TrackingState::kNotInitialized;

@@ -50,8 +50,8 @@ struct Tracker::Impl {
   PoseCovarianceCalibrator covariance_calibrator;  // of the poses output as TRACKING
   long last_kf_id = -1;
   int frames_since_kf = 0;
-  double kf_close_untracked = 0.0;  // stereo: the last keyframe's close left-right matches without a map point,
-                                    // per keypoint of it
+  double kf_close_untracked_share = 0.0;  // stereo: the last keyframe's close left-right matches without a map
+                                          // point, per keypoint of it
   int consecutive_lost = 0;
   bool reinitializing = false;  // map was reset after a loss and is being re-initialized
   bool have_last_good = false;

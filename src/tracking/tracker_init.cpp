@@ -53,7 +53,7 @@ bool Tracker::Impl::initializeStereo(Frame& cur, TrackResult* res) {
   }
   initializer.clearReference();
   metric_map = true;
-  kf_close_untracked = closeShareWithoutPoint(matches, cur, stereo->closeDepth());  // cur.point_id: all -1 here
+  kf_close_untracked_share = closeShareWithoutPoint(matches, cur, stereo->closeDepth());  // cur.point_id: all -1 here
   cur.point_id = kf->point_id;
   last_kf_id = kf->id;
   res->inliers = points;

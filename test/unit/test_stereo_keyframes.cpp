@@ -23,13 +23,13 @@ using namespace iraf_vo;
 namespace {
 
 // A stereo frame one frame after a keyframe: mapping counts as busy, the inliers are 0.95 of the reference keyframe.
-KeyframeCandidate stereoCandidate(int close_tracked, double close_untracked) {
+KeyframeCandidate stereoCandidate(int close_tracked, double close_untracked_share) {
   KeyframeCandidate c;
   c.frames_since_keyframe = 1;
   c.inliers = 190;
   c.reference_tracked = 200;
   c.stereo_close_tracked = close_tracked;
-  c.stereo_close_untracked = close_untracked;
+  c.stereo_close_untracked_share = close_untracked_share;
   return c;
 }
 

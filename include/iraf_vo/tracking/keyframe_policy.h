@@ -33,8 +33,8 @@ struct KeyframeCandidate {
   int reference_close = 0;       // of those, nearer than keyframe_close_steps frame steps to it
   int close_tracked = 0;         // inliers nearer than that to the current frame
   int stereo_close_tracked = -1;   // stereo: inliers nearer than the stereo close depth (-1: monocular)
-  double stereo_close_untracked = 0.0;  // stereo: the last keyframe's close left-right matches without a map point,
-                                       // per keypoint of that keyframe
+  double stereo_close_untracked_share = 0.0;  // stereo: the last keyframe's close left-right matches without a map
+                                             // point, per keypoint of that keyframe
 };
 
 constexpr int kMinClosePoints = 10;  // fewer close points in the reference keyframe: the close rule stays off
