@@ -118,6 +118,12 @@ HealthReport trackerHealth(const TrackerHealthInput& in) {
   } else if (in.missed_since_last_report > 0) {
     r.level = HealthReport::kWarn;
     r.summary = "tracking; " + std::to_string(in.missed_since_last_report) + " frames missed (overload)";
+  } else if (c.metric_scale_weak) {
+    r.level = HealthReport::kWarn;
+    char buf[128];
+    std::snprintf(buf, sizeof(buf), "tracking; metric scale weakly observed (%.1f close stereo inliers per frame)",
+                  c.close_inliers_mean);
+    r.summary = buf;
   } else {
     r.summary = "tracking";
   }
@@ -136,6 +142,10 @@ HealthReport trackerHealth(const TrackerHealthInput& in) {
   r.add("last rejection", in.last_rejection);
   r.add("keyframes in map", static_cast<long>(c.map_keyframes));
   r.add("map points", static_cast<long>(c.map_points));
+  if (c.close_inliers_mean >= 0.0) {
+    r.add("close stereo inliers per frame", c.close_inliers_mean);
+    r.add("frames with a weak metric scale", c.weak_scale_frames);
+  }
   return r;
 }
 

@@ -19,13 +19,16 @@ Percentiles percentiles(std::vector<double> v) {
 }
 
 // The frame log's last column: why the frame is too dark, why the health monitor rejected the pose, why
-// initialization failed, or after how many frames it relocalized after darkness (no commas).
+// initialization failed, after how many frames it relocalized after darkness, or that a stereo map's metric scale
+// became weakly observed / observed again (no commas).
 static std::string csvNote(const TrackResult& r) {
   std::string s = !r.too_dark.empty()  ? r.too_dark
                   : !r.rejected.empty() ? r.rejected
                   : r.relocalized_after_frames > 0
                       ? "relocalized after darkness at the frame " + std::to_string(r.relocalized_after_frames) +
                             " with signal"
+                  : r.metric_scale_changed
+                      ? (r.metric_scale_weak ? "metric scale weakly observed" : "metric scale observed again")
                       : r.init_status;
   std::replace(s.begin(), s.end(), ',', ';');
   return s;
@@ -91,7 +94,9 @@ std::string RunRecorder::summary(const RunTotals& t) const {
     s << "stereo: baseline " << t.baseline << " m, left-right matched frames " << st.stereo_matched_frames
       << " (initialization and keyframes), matches per matched frame "
       << (st.stereo_matched_frames > 0 ? static_cast<double>(st.stereo_matches_total) / st.stereo_matched_frames : 0.0)
-      << ", frames without a right image " << st.right_missing_frames << " (" << st.right_missing_events << " runs)\n";
+      << ", frames without a right image " << st.right_missing_frames << " (" << st.right_missing_events << " runs)"
+      << ", frames with a weakly observed metric scale " << st.weak_scale_frames << " (" << st.weak_scale_events
+      << " runs)\n";
   s << "wall " << t.wall_s << " s, " << fps(t)
     << " fps (reader, front-end, tracking and mapping threads in parallel); CPU " << t.cpu_s
     << " s = " << cpuMsPerFrame(t) << " ms/frame (all threads) -> <= " << 2000.0 / cpuMsPerFrame(t)
@@ -172,7 +177,8 @@ bool RunRecorder::writeJson(const std::string& path, const RunTotals& t, std::st
     js << ",\n  \"stereo\": true,\n  \"baseline\": " << t.baseline << ",\n  \"stereo_matches_total\": "
        << st.stereo_matches_total << ",\n  \"stereo_matched_frames\": " << st.stereo_matched_frames
        << ",\n  \"right_missing_frames\": " << st.right_missing_frames
-       << ",\n  \"right_missing_events\": " << st.right_missing_events;
+       << ",\n  \"right_missing_events\": " << st.right_missing_events
+       << ",\n  \"weak_scale_frames\": " << st.weak_scale_frames << ",\n  \"weak_scale_events\": " << st.weak_scale_events;
   if (t.have_ate_se3) js << ",\n  \"ate_se3_rmse\": " << t.ate_se3.ate.rmse;
   js << "\n}\n";
   return true;

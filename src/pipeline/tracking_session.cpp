@@ -201,7 +201,28 @@ void TrackingSession::countFrame(const TrackResult& r, SessionStep* step) {
     ++counters_.initializations;
   }
   if (r.is_keyframe) ++counters_.keyframes;
+  countMetricScale(r, step);
   last_state_ = r.state;
+}
+
+void TrackingSession::countMetricScale(const TrackResult& r, SessionStep* step) {
+  using L = SessionMessage::Level;
+  if (r.initialized_now) counters_.metric_scale_weak = false;  // a new map: the tracker's monitor restarted
+  if (r.state != TrackingState::kTracking || r.close_inliers < 0) return;
+  counters_.close_inliers_mean = r.close_inliers_mean;
+  counters_.metric_scale_weak = r.metric_scale_weak;
+  if (r.metric_scale_weak) ++counters_.weak_scale_frames;
+  if (!r.metric_scale_changed) return;
+  char buf[256];
+  if (r.metric_scale_weak)
+    std::snprintf(buf, sizeof(buf),
+                  "metric scale weakly observed: %.1f pose inliers per frame near enough for a stereo depth "
+                  "(stereo_scale_min_close_inliers): the scale rests on far points and may drift",
+                  r.close_inliers_mean);
+  else
+    std::snprintf(buf, sizeof(buf), "metric scale observed again: %.1f close pose inliers per frame",
+                  r.close_inliers_mean);
+  step->messages.push_back({r.metric_scale_weak ? L::kWarn : L::kInfo, buf, "scale"});
 }
 
 void TrackingSession::collectMap(SessionStep* step) {

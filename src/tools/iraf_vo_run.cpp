@@ -58,7 +58,8 @@ int parseArgs(int argc, char** argv, Args* a, iraf_vo::PipelineParams* p) {
              "process frames [first, first + N) only");
   cli.option("--frame-log", "F", &a->frame_log_path,
              "per-frame CSV: index,stamp,state,keypoints,matches,inliers,keyframe,pnp,ms_track,mean,snr,note\n"
-             "(note: why initialization failed / why the health monitor rejected the pose)");
+             "(note: why initialization failed / why the health monitor rejected the pose / stereo: the metric scale\n"
+             "became weakly observed or observed again)");
   cli.option("--out-final", "traj_final.txt", &a->out_final,
              "the trajectory after mapping: each tracked pose re-attached to its reference keyframe's\n"
              "final (BA-refined) pose, as ORB-SLAM / DSO result files are. With --gt both ATEs are printed.");

@@ -103,6 +103,7 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in, bool has_right, RightFe
     });
   }
   ++frames_since_kf;
+  observeMetricScale(cur, &res);
   t0 = SteadyClock::now();
   const bool new_keyframe = addKeyframeIfNeeded(cur, &res);
   if (!map_settled) map_settled = mapBaselineSettled(cur);
@@ -252,7 +253,8 @@ bool Tracker::Impl::addKeyframeIfNeeded(Frame& cur, TrackResult* res) {
       c.reference_tracked = map.trackedPoints(last_kf_id, 2);
     }
     if (stereo) {  // the stereo close-point rule (keyframe_policy.h)
-      c.stereo_close_tracked = map.pointsNearerThan(cur.point_id, cur.T_c_w, stereo->closeDepth());
+      c.stereo_close_tracked = res->close_inliers >= 0 ? res->close_inliers
+                                                      : map.pointsNearerThan(cur.point_id, cur.T_c_w, stereo->closeDepth());
       c.stereo_close_untracked_share = kf_close_untracked_share;
     }
   }
@@ -271,6 +273,20 @@ bool Tracker::Impl::addKeyframeIfNeeded(Frame& cur, TrackResult* res) {
   frames_since_kf = 0;
   res->is_keyframe = true;
   return true;
+}
+
+void Tracker::Impl::observeMetricScale(const Frame& cur, TrackResult* res) {
+  if (!stereo || !metric_map) return;
+  res->close_inliers = map.pointsNearerThan(cur.point_id, cur.T_c_w, stereo->closeDepth());
+  res->metric_scale_changed = scale_monitor.add(res->close_inliers);
+  res->metric_scale_weak = scale_monitor.weak();
+  res->close_inliers_mean = scale_monitor.mean();
+  if (!res->metric_scale_weak || !map_settled) return;
+  const bool new_run = res->metric_scale_changed;
+  updateStats([new_run](TrackerStats& s) {
+    s.weak_scale_frames++;
+    if (new_run) s.weak_scale_events++;
+  });
 }
 
 void Tracker::Impl::handleLostFrame(const Frame& cur) {
@@ -319,6 +335,7 @@ void Tracker::Impl::resetMap() {
   last_ref_kf = -1;
   frames_since_kf = 0;
   kf_close_untracked_share = 0.0;
+  scale_monitor.restart();
   consecutive_lost = 0;
   map_settled = true;
   state = TrackingState::kNotInitialized;

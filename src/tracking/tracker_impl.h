@@ -10,6 +10,7 @@
 #include "iraf_vo/tracking/local_mapper.h"
 #include "iraf_vo/tracking/map.h"
 #include "iraf_vo/tracking/map_initializer.h"
+#include "iraf_vo/tracking/metric_scale_monitor.h"
 #include "iraf_vo/tracking/pose_covariance.h"
 #include "iraf_vo/tracking/pose_tracker.h"
 #include "iraf_vo/tracking/relocalizer.h"
@@ -33,6 +34,7 @@ struct Tracker::Impl {
   TrackingHealthMonitor health;
   SignalCheck signal;
   Relocalizer relocalizer;
+  MetricScaleMonitor scale_monitor;     // stereo: whether the metric map's scale is observed
   std::unique_ptr<StereoFrame> stereo;  // null: monocular
 
   mutable std::mutex stats_mutex;
@@ -62,7 +64,8 @@ struct Tracker::Impl {
   bool map_settled = true;  // the map's keyframes span init_min_map_baseline of the depth: poses are reported
 
   Impl(CameraModelPtr c, const TrackerParams& params, const StereoRig& stereo_rig = StereoRig())
-      : cam(std::move(c)), rig(stereo_rig), p(params), mapper(*cam, p, &map), initializer(*cam, p), pose_tracker(*cam, p), health(p), signal(p), relocalizer(*cam, p) {
+      : cam(std::move(c)), rig(stereo_rig), p(params), mapper(*cam, p, &map), initializer(*cam, p), pose_tracker(*cam, p), health(p), signal(p), relocalizer(*cam, p),
+        scale_monitor(p) {
     if (!rig.right) return;
     stereo = std::make_unique<StereoFrame>(rig, p);
     mapper.setStereo(&rig);
@@ -108,6 +111,8 @@ struct Tracker::Impl {
   TrackResult darkFrame(SteadyClock::time_point t_start, TrackResult res);
   void resetMap();
   void onTracked(const Frame& cur, TrackResult* res, bool is_keyframe);
+  /// Stereo, metric map: the frame's close inliers into the scale monitor (TrackResult::close_inliers ...).
+  void observeMetricScale(const Frame& cur, TrackResult* res);
   TrackResult notTracked(TrackingState reported, SteadyClock::time_point t_start, TrackResult res) const {
     res.state = reported;
     res.T_w_c = last_good_T_w_c;

@@ -53,6 +53,7 @@ bool Tracker::Impl::initializeStereo(Frame& cur, TrackResult* res) {
   }
   initializer.clearReference();
   metric_map = true;
+  scale_monitor.restart();
   kf_close_untracked_share = closeShareWithoutPoint(matches, cur, stereo->closeDepth());  // cur.point_id: all -1 here
   cur.point_id = kf->point_id;
   last_kf_id = kf->id;

@@ -126,6 +126,11 @@ const ParamTable<TrackerParams>& trackerParamTable() {
                     "Stereo: match left-right on every frame (right residuals in every pose refinement); false: on keyframes only"),
           intParam("stereo_ba_max_iterations", &P::stereo_ba_max_iterations, 0, 200,
                    "Stereo: Levenberg-Marquardt iterations per local BA of a stereo map (ba_max_num_iterations: monocular)"),
+          intParam("stereo_scale_min_close_inliers", &P::stereo_scale_min_close_inliers, 0, 10000,
+                   "Stereo: fewer pose inliers nearer than the close depth per frame (mean over stereo_scale_window_frames) -> "
+                   "metric scale weakly observed, reported (0 = off)"),
+          intParam("stereo_scale_window_frames", &P::stereo_scale_window_frames, 1, 1000,
+                   "Stereo: tracked frames of that mean"),
           intParam("ba_window_size", &P::ba_window_size, 2, 100, "Keyframes optimized by the sliding-window BA"),
           intParam("max_map_keyframes", &P::max_map_keyframes, 2, 1000,
                    "Keyframes kept in the map (older are dropped; >= ba_window_size)"),

@@ -100,7 +100,8 @@ struct TrackerHealthInput {
   long missed = 0, missed_since_last_report = 0;
   std::string last_rejection;
 };
-/// ERROR without calibration, WARN when not TRACKING or frames were missed since the last report, else OK.
+/// ERROR without calibration, WARN when not TRACKING, when frames were missed since the last report or when a stereo
+/// map's metric scale is weakly observed (SessionCounters::metric_scale_weak), else OK.
 HealthReport trackerHealth(const TrackerHealthInput& in);
 
 /// Everything the tracker nodelet reports about its run besides the session counters: input / odometry rates,

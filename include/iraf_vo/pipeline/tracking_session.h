@@ -45,6 +45,10 @@ struct SessionCounters {
   long initializations = 0;               // completed (re-)initializations
   long epoch = 0;                         // map / scale epoch: 0 before the first map, +1 at every new map
   int map_points = 0, map_keyframes = 0;  // of the last published map
+  // Stereo (TrackResult::close_inliers_mean / metric_scale_weak of the last tracked frame of a metric map):
+  double close_inliers_mean = -1.0;       // -1: monocular, or no metric map tracked yet
+  bool metric_scale_weak = false;
+  long weak_scale_frames = 0;             // tracked frames with a weakly observed metric scale
 };
 
 struct SessionMessage {
@@ -52,7 +56,7 @@ struct SessionMessage {
   Level level = Level::kInfo;
   std::string text;
   /// What happened, for per-kind console throttling: "drop", "time_jump", "lost", "rejected", "reinit", "reset",
-  /// "restart", "relocalized", "error".
+  /// "restart", "relocalized", "scale", "error".
   std::string key;
 };
 
@@ -111,6 +115,7 @@ class TrackingSession {
   void createTracker(const Eigen::Isometry3d& anchor, SessionStep* step);
   void restartAfterTimeJump(int64_t stamp_ns, SessionStep* step);
   void countFrame(const TrackResult& r, SessionStep* step);
+  void countMetricScale(const TrackResult& r, SessionStep* step);
   void collectMap(SessionStep* step);
 
   CameraModelPtr camera_;

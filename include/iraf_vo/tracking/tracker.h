@@ -92,6 +92,14 @@ struct TrackResult {
   bool right_missing = false;  // stereo tracker: this frame had no right image (tracked with the left camera)
   int stereo_matches = 0;      // stereo tracker: left-right matches of this frame (0 when not matched)
   int right_inliers = 0;       // stereo tracker: right-image residuals in this frame's final pose refinement
+  /// Stereo tracker, metric map, tracked frame: pose inliers nearer than the close depth (depths the pair
+  /// measures; -1 otherwise), their mean over the last stereo_scale_window_frames, and whether that mean is below
+  /// stereo_scale_min_close_inliers (metric scale weakly observed: MetricScaleMonitor). metric_scale_changed: this
+  /// frame changed metric_scale_weak.
+  int close_inliers = -1;
+  double close_inliers_mean = -1.0;
+  bool metric_scale_weak = false;
+  bool metric_scale_changed = false;
   TrackTiming timing;
 };
 
@@ -115,6 +123,8 @@ struct TrackerStats {
   double ba_final_rmse_px = 0.0;   // last BA
   long right_missing_frames = 0;   // stereo tracker: frames without a right image
   long right_missing_events = 0;   // runs of consecutive frames without a right image
+  long weak_scale_frames = 0;      // stereo tracker: tracked frames with a weakly observed metric scale
+  long weak_scale_events = 0;      // runs of them
   long stereo_matched_frames = 0;  // frames matched left-right (the initialization and keyframes with a right image)
   long stereo_matches_last = 0;    // left-right matches of the last matched frame
   long stereo_matches_total = 0;   // summed over the matched frames

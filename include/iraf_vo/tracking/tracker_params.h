@@ -106,6 +106,9 @@ struct TrackerParams {
                                             // with them (docs/stereo.md)
   int stereo_ba_max_iterations = 5;         // local BA iterations of a stereo map (ba_max_num_iterations: of a
                                             // monocular one): its cost falls < 0.1 % per iteration after ~4
+  int stereo_scale_min_close_inliers = 15;  // fewer close pose inliers per frame (mean over the window): the metric
+                                            // scale is weakly observed (MetricScaleMonitor; 0 = off)
+  int stereo_scale_window_frames = 10;      // tracked frames of that mean
   // ---- sliding-window BA ----
   int ba_window_size = 10;
   int max_map_keyframes = 25;           // keyframes kept (older are dropped); the local BA's fixed anchors are the
