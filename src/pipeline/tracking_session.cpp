@@ -222,7 +222,10 @@ void TrackingSession::countMetricScale(const TrackResult& r, SessionStep* step) 
   else
     std::snprintf(buf, sizeof(buf), "metric scale observed again: %.1f close pose inliers per frame",
                   r.close_inliers_mean);
-  step->messages.push_back({r.metric_scale_weak ? L::kWarn : L::kInfo, buf, "scale"});
+  if (r.metric_scale_weak)
+    step->messages.push_back({L::kWarn, buf, "scale_weak"});
+  else
+    step->messages.push_back({L::kInfo, buf, "scale_ok"});
 }
 
 void TrackingSession::collectMap(SessionStep* step) {

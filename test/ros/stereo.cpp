@@ -4,7 +4,7 @@
 //   * tracks from the first frames (first odometry at frame 0 or 1: a metric map from one stereo frame);
 //   * publishes metric odometry: the distance travelled over 0.5 s segments matches the ground truth within 5 %;
 //   * keeps odometry going after the right camera stopped, with one warning on /rosout ("left camera only") and the
-//     left-only frames counted in /diagnostics;
+//     left-only frames counted in /diagnostics; the metric scale observed (no weak-scale warning);
 //   * builds the same first map as iraf_vo_run --stereo on that frame: as many stereo map points (the matches are
 //     sub-pixel refined on the enhanced images, which the Features messages do not carry), every pair with its
 //     images.
@@ -157,6 +157,14 @@ TEST(Stereo, EurocBagMetricOdometryAndTheRightCameraStopping) {
   const auto unrefined = w.tracker_diag.find("stereo pairs without images (not sub-pixel refined)");
   ASSERT_NE(unrefined, w.tracker_diag.end());
   EXPECT_EQ(unrefined->second, "0") << "every pair was matched on its images";
+  // The metric scale is observed on EuRoC (hundreds of pose inliers within the 25 m the pair measures): no false alarm.
+  const auto close = w.tracker_diag.find("close stereo inliers per frame");
+  ASSERT_NE(close, w.tracker_diag.end()) << "no metric scale values in /diagnostics";
+  EXPECT_GT(std::atof(close->second.c_str()), 15.0);
+  const auto weak = w.tracker_diag.find("frames with a weak metric scale");
+  ASSERT_NE(weak, w.tracker_diag.end());
+  EXPECT_EQ(weak->second, "0");
+  for (const auto& m : w.warnings) EXPECT_EQ(m.find("metric scale weakly observed"), std::string::npos) << m;
 
   // The first map against the offline runner's on the same frame (same cameras, parameters and core).
   ASSERT_TRUE(w.first_map != nullptr) << "no tracking_status with initialized_now";

@@ -22,7 +22,8 @@ struct MotionSim {
   std::string error;
 };
 
-inline MotionSim makeMotionSim(MotionKind kind, const std::string& camera, int frames, int threads, uint64_t seed) {
+inline MotionSim makeMotionSim(MotionKind kind, const std::string& camera, int frames, int threads, uint64_t seed,
+                               const std::string& light = "clean") {
   MotionSim m;
   m.preset = motionPreset(kind);
   const MotionPreset& mp = m.preset;
@@ -41,8 +42,8 @@ inline MotionSim makeMotionSim(MotionKind kind, const std::string& camera, int f
   sp.seed = seed;
   m.scene = std::make_shared<const Scene>(
       makeMotionScene(sp, mp.traj, (mp.frames - 1) / m.sim.rate_hz + m.sim.exposure_time_s));
-  if (!lightProfile("clean", mp.frames, m.sim.rate_hz, m.sim.exposure_time_s, false, seed, &m.light)) {
-    m.error = "no clean light profile";
+  if (!lightProfile(light, mp.frames, m.sim.rate_hz, m.sim.exposure_time_s, false, seed, &m.light)) {
+    m.error = "no light profile " + light;
     m.camera.reset();
   }
   return m;

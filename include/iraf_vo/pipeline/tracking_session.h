@@ -56,7 +56,7 @@ struct SessionMessage {
   Level level = Level::kInfo;
   std::string text;
   /// What happened, for per-kind console throttling: "drop", "time_jump", "lost", "rejected", "reinit", "reset",
-  /// "restart", "relocalized", "scale", "error".
+  /// "restart", "relocalized", "scale_weak", "scale_ok", "error".
   std::string key;
 };
 
