@@ -7,6 +7,7 @@
 #include <iraf_vo/camera/stereo_rig.h>
 #include <iraf_vo/pipeline/front_end.h>
 #include <iraf_vo/pipeline/pipeline_params.h>
+#include <iraf_vo/pipeline/tracking_session.h>
 #include <iraf_vo/sim/renderer.h>
 #include <iraf_vo/sim/sequence.h>
 #include <iraf_vo/sim/sim_stereo_rig.h>
@@ -166,6 +167,48 @@ TEST(StereoKeyframes, FisheyeRoadFirstStepsAreMetric) {
 // texture under the noise) 0-18, and the stereo path of the whole run came out 1.43x too short (iraf_vo_simulate
 // --preset night --motion highway --camera fisheye --stereo). The night run is reported weakly observed from the
 // first full window (frame 10) and keeps its pose (TRACKING); the clean one never.
+namespace {
+// The night road through a TrackingSession (what the tracker nodelet runs): its weak-scale messages and counters.
+struct SessionRoad {
+  int tracked = 0, warnings = 0, infos = 0;
+  SessionCounters counters;
+};
+SessionRoad sessionRoad(int frames, const std::string& light) {
+  SessionRoad out;
+  const MotionSim m = makeMotionSim(MotionKind::kHighway, "fisheye", frames, 2, 0, light);
+  if (!m.camera) {
+    ADD_FAILURE() << m.error;
+    return out;
+  }
+  Renderer left(m.camera, m.scene, m.sim), right(m.camera, m.scene, m.sim);
+  const Eigen::Isometry3d T_l_r = rightCameraInLeft(SimStereoRig(), m.sim.camera);
+  right.setPoseInRig(T_l_r);
+  PipelineParams pp;
+  applyResolutionRule(*m.camera, &pp);
+  applyFrontEndMode(FrontEndMode::kIraf, &pp.enhance, &pp.features);
+  pp.tracker.mapping_thread = false;
+  StereoRig rig;
+  rig.left = rig.right = m.camera;
+  rig.T_r_l = T_l_r.inverse();
+  FrontEnd left_front(pp.enhance, pp.features, true), right_front(pp.enhance, pp.features, true);
+  TrackingSession session(rig, pp.tracker, SessionOptions());
+  const auto on_frame = [&](const SimFrame& f) {
+    const FeatureFrame l = left_front.process(f.image, f.stamp_ns * 1e-9);
+    const FeatureFrame r = right_front.process(f.right_image, f.stamp_ns * 1e-9);
+    const SessionStep st = session.process(f.stamp_ns, &l, &r);
+    out.tracked += st.has_pose;
+    for (const SessionMessage& msg : st.messages) {
+      out.warnings += msg.key == "scale_weak" && msg.level == SessionMessage::Level::kWarn;
+      out.infos += msg.key == "scale_ok" && msg.level == SessionMessage::Level::kInfo;
+    }
+    out.counters = st.counters;
+  };
+  std::string err;
+  EXPECT_TRUE(simulateSequence(left, &right, m.preset.traj, m.light, "", on_frame, nullptr, &err)) << err;
+  return out;
+}
+}  // namespace
+
 TEST(StereoKeyframes, WeakMetricScaleIsReportedOnTheNightRoad) {
   const RoadRun night = trackRoad(16, "fisheye", 0, -1, "night");
   ASSERT_EQ(night.tracked, 16);
@@ -175,4 +218,21 @@ TEST(StereoKeyframes, WeakMetricScaleIsReportedOnTheNightRoad) {
   ASSERT_EQ(clean.tracked, 16);
   EXPECT_EQ(clean.weak_scale_frames, 0);
   EXPECT_EQ(clean.weak_scale_changes, 0);
+}
+
+// The same through the session the tracker nodelet runs: one WARN when the scale becomes weak (ROS_WARN there), the
+// counters /diagnostics reports from; none on the clean road.
+TEST(StereoKeyframes, WeakMetricScaleReachesTheSession) {
+  const SessionRoad night = sessionRoad(16, "night");
+  ASSERT_EQ(night.tracked, 16);
+  EXPECT_GE(night.warnings, 1);
+  EXPECT_GE(night.counters.weak_scale_frames, 1);
+  EXPECT_EQ(night.counters.metric_scale_weak, night.warnings > night.infos);
+  EXPECT_GE(night.counters.close_inliers_mean, 0.0);
+  const SessionRoad clean = sessionRoad(16, "clean");
+  ASSERT_EQ(clean.tracked, 16);
+  EXPECT_EQ(clean.warnings, 0);
+  EXPECT_EQ(clean.counters.weak_scale_frames, 0);
+  EXPECT_FALSE(clean.counters.metric_scale_weak);
+  EXPECT_GT(clean.counters.close_inliers_mean, 15.0);
 }
