@@ -208,24 +208,23 @@ void TrackingSession::countFrame(const TrackResult& r, SessionStep* step) {
 void TrackingSession::countMetricScale(const TrackResult& r, SessionStep* step) {
   using L = SessionMessage::Level;
   if (r.initialized_now) counters_.metric_scale_weak = false;  // a new map: the tracker's monitor restarted
-  if (r.state != TrackingState::kTracking || r.close_inliers < 0) return;
+  if (r.state != TrackingState::kTracking || r.close_inliers_mean < 0.0) return;  // not a tracked metric map
   counters_.close_inliers_mean = r.close_inliers_mean;
   counters_.metric_scale_weak = r.metric_scale_weak;
   if (r.metric_scale_weak) ++counters_.weak_scale_frames;
   if (!r.metric_scale_changed) return;
   char buf[256];
-  if (r.metric_scale_weak)
+  if (r.metric_scale_weak) {
     std::snprintf(buf, sizeof(buf),
                   "metric scale weakly observed: %.1f pose inliers per frame near enough for a stereo depth "
                   "(stereo_scale_min_close_inliers): the scale rests on far points and may drift",
                   r.close_inliers_mean);
-  else
+    step->messages.push_back({L::kWarn, buf, "scale_weak"});
+  } else {
     std::snprintf(buf, sizeof(buf), "metric scale observed again: %.1f close pose inliers per frame",
                   r.close_inliers_mean);
-  if (r.metric_scale_weak)
-    step->messages.push_back({L::kWarn, buf, "scale_weak"});
-  else
     step->messages.push_back({L::kInfo, buf, "scale_ok"});
+  }
 }
 
 void TrackingSession::collectMap(SessionStep* step) {

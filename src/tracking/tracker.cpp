@@ -253,8 +253,7 @@ bool Tracker::Impl::addKeyframeIfNeeded(Frame& cur, TrackResult* res) {
       c.reference_tracked = map.trackedPoints(last_kf_id, 2);
     }
     if (stereo) {  // the stereo close-point rule (keyframe_policy.h)
-      c.stereo_close_tracked = res->close_inliers >= 0 ? res->close_inliers
-                                                      : map.pointsNearerThan(cur.point_id, cur.T_c_w, stereo->closeDepth());
+      c.stereo_close_tracked = res->close_inliers;  // observeMetricScale
       c.stereo_close_untracked_share = kf_close_untracked_share;
     }
   }
@@ -276,12 +275,13 @@ bool Tracker::Impl::addKeyframeIfNeeded(Frame& cur, TrackResult* res) {
 }
 
 void Tracker::Impl::observeMetricScale(const Frame& cur, TrackResult* res) {
-  if (!stereo || !metric_map) return;
+  if (!stereo) return;
   res->close_inliers = map.pointsNearerThan(cur.point_id, cur.T_c_w, stereo->closeDepth());
+  if (!metric_map) return;
   res->metric_scale_changed = scale_monitor.add(res->close_inliers);
   res->metric_scale_weak = scale_monitor.weak();
   res->close_inliers_mean = scale_monitor.mean();
-  if (!res->metric_scale_weak || !map_settled) return;
+  if (!res->metric_scale_weak) return;
   const bool new_run = res->metric_scale_changed;
   updateStats([new_run](TrackerStats& s) {
     s.weak_scale_frames++;

@@ -111,7 +111,8 @@ struct Tracker::Impl {
   TrackResult darkFrame(SteadyClock::time_point t_start, TrackResult res);
   void resetMap();
   void onTracked(const Frame& cur, TrackResult* res, bool is_keyframe);
-  /// Stereo, metric map: the frame's close inliers into the scale monitor (TrackResult::close_inliers ...).
+  /// Stereo: the frame's close inliers (TrackResult::close_inliers; the stereo keyframe rule counts them too), into
+  /// the scale monitor on a metric map (close_inliers_mean, metric_scale_weak ...).
   void observeMetricScale(const Frame& cur, TrackResult* res);
   TrackResult notTracked(TrackingState reported, SteadyClock::time_point t_start, TrackResult res) const {
     res.state = reported;

@@ -92,10 +92,10 @@ struct TrackResult {
   bool right_missing = false;  // stereo tracker: this frame had no right image (tracked with the left camera)
   int stereo_matches = 0;      // stereo tracker: left-right matches of this frame (0 when not matched)
   int right_inliers = 0;       // stereo tracker: right-image residuals in this frame's final pose refinement
-  /// Stereo tracker, metric map, tracked frame: pose inliers nearer than the close depth (depths the pair
-  /// measures; -1 otherwise), their mean over the last stereo_scale_window_frames, and whether that mean is below
-  /// stereo_scale_min_close_inliers (metric scale weakly observed: MetricScaleMonitor). metric_scale_changed: this
-  /// frame changed metric_scale_weak.
+  /// Stereo tracker, tracked frame: pose inliers nearer than the close depth (depths the pair measures; -1
+  /// otherwise). On a metric map also their mean over the last stereo_scale_window_frames (-1 otherwise) and
+  /// whether that mean is below stereo_scale_min_close_inliers (metric scale weakly observed: MetricScaleMonitor);
+  /// metric_scale_changed: this frame changed metric_scale_weak.
   int close_inliers = -1;
   double close_inliers_mean = -1.0;
   bool metric_scale_weak = false;
