@@ -17,6 +17,7 @@
 #include "motion_sim.h"
 
 #include <algorithm>
+#include <functional>
 #include <map>
 
 using namespace iraf_vo;
@@ -42,33 +43,55 @@ struct RoadRun {
   int weak_scale_changes = 0;
 };
 
+// The highway rendered in-process as iraf_vo_simulate --stereo renders it, with the offline runner's stereo
+// parameters (resolution rule of the camera, iraf front-end, synchronous mapping: deterministic).
+struct Road {
+  MotionSim m;
+  PipelineParams pp;
+  StereoRig rig;
+  Eigen::Isometry3d T_l_r = Eigen::Isometry3d::Identity();  // the right camera in the left one
+  bool ok() const { return m.camera != nullptr; }
+};
+
+Road makeRoad(int frames, const std::string& camera, uint64_t seed, const std::string& light) {
+  Road road;
+  road.m = makeMotionSim(MotionKind::kHighway, camera, frames, 2, seed, light);
+  if (!road.ok()) {
+    ADD_FAILURE() << road.m.error;
+    return road;
+  }
+  road.T_l_r = rightCameraInLeft(SimStereoRig(), road.m.sim.camera);
+  applyResolutionRule(*road.m.camera, &road.pp);
+  applyFrontEndMode(FrontEndMode::kIraf, &road.pp.enhance, &road.pp.features);
+  road.pp.tracker.mapping_thread = false;
+  road.rig.left = road.rig.right = road.m.camera;
+  road.rig.T_r_l = road.T_l_r.inverse();
+  return road;
+}
+
+// Renders both cameras frame by frame into on_frame (SimFrame::image / right_image).
+void renderRoad(const Road& road, const std::function<void(const SimFrame&)>& on_frame) {
+  const MotionSim& m = road.m;
+  Renderer left(m.camera, m.scene, m.sim), right(m.camera, m.scene, m.sim);
+  right.setPoseInRig(road.T_l_r);
+  std::string err;
+  EXPECT_TRUE(simulateSequence(left, &right, m.preset.traj, m.light, "", on_frame, nullptr, &err)) << err;
+}
+
 // Highway frames [0, frames) through the offline runner's stereo path: one FrontEnd per camera (the left one keeps
 // its image for the sub-pixel disparities), the right features on demand.
 RoadRun trackRoad(int frames, const std::string& camera = "pinhole", uint64_t seed = 0, int far_fill = -1,
                   const std::string& light = "clean") {
-  const MotionSim m = makeMotionSim(MotionKind::kHighway, camera, frames, 2, seed, light);
+  Road road = makeRoad(frames, camera, seed, light);
   RoadRun run;
-  if (!m.camera) {
-    ADD_FAILURE() << m.error;
-    return run;
-  }
-  const CameraModelPtr& cam = m.camera;
-  Renderer left(cam, m.scene, m.sim), right(cam, m.scene, m.sim);
-  const Eigen::Isometry3d T_l_r = rightCameraInLeft(SimStereoRig(), m.sim.camera);
-  right.setPoseInRig(T_l_r);
-  PipelineParams pp;
-  applyResolutionRule(*cam, &pp);
-  applyFrontEndMode(FrontEndMode::kIraf, &pp.enhance, &pp.features);
-  pp.tracker.mapping_thread = false;  // deterministic
-  if (far_fill >= 0) pp.tracker.stereo_far_fill_points = far_fill;
-  StereoRig rig;
-  rig.left = rig.right = cam;
-  rig.T_r_l = T_l_r.inverse();
+  if (!road.ok()) return run;
+  const PipelineParams& pp = road.pp;
+  if (far_fill >= 0) road.pp.tracker.stereo_far_fill_points = far_fill;
   FrontEnd left_front(pp.enhance, pp.features, true), right_front(pp.enhance, pp.features, true);
-  Tracker tracker(rig, pp.tracker);
+  Tracker tracker(road.rig, pp.tracker);
   Eigen::Vector3d last_est, last_true;
   bool have_last = false;
-  const auto on_frame = [&](const SimFrame& f) {
+  renderRoad(road, [&](const SimFrame& f) {
     const double stamp = f.stamp_ns * 1e-9;
     const TrackResult r = tracker.track(left_front.process(f.image, stamp), true,
                                         [&] { return right_front.process(f.right_image, stamp); });
@@ -90,9 +113,7 @@ RoadRun trackRoad(int frames, const std::string& camera = "pinhole", uint64_t se
     last_est = est;
     last_true = truth;
     have_last = true;
-  };
-  std::string err;
-  EXPECT_TRUE(simulateSequence(left, &right, m.preset.traj, m.light, "", on_frame, nullptr, &err)) << err;
+  });
   return run;
 }
 
@@ -175,24 +196,12 @@ struct SessionRoad {
 };
 SessionRoad sessionRoad(int frames, const std::string& light) {
   SessionRoad out;
-  const MotionSim m = makeMotionSim(MotionKind::kHighway, "fisheye", frames, 2, 0, light);
-  if (!m.camera) {
-    ADD_FAILURE() << m.error;
-    return out;
-  }
-  Renderer left(m.camera, m.scene, m.sim), right(m.camera, m.scene, m.sim);
-  const Eigen::Isometry3d T_l_r = rightCameraInLeft(SimStereoRig(), m.sim.camera);
-  right.setPoseInRig(T_l_r);
-  PipelineParams pp;
-  applyResolutionRule(*m.camera, &pp);
-  applyFrontEndMode(FrontEndMode::kIraf, &pp.enhance, &pp.features);
-  pp.tracker.mapping_thread = false;
-  StereoRig rig;
-  rig.left = rig.right = m.camera;
-  rig.T_r_l = T_l_r.inverse();
+  const Road road = makeRoad(frames, "fisheye", 0, light);
+  if (!road.ok()) return out;
+  const PipelineParams& pp = road.pp;
   FrontEnd left_front(pp.enhance, pp.features, true), right_front(pp.enhance, pp.features, true);
-  TrackingSession session(rig, pp.tracker, SessionOptions());
-  const auto on_frame = [&](const SimFrame& f) {
+  TrackingSession session(road.rig, pp.tracker, SessionOptions());
+  renderRoad(road, [&](const SimFrame& f) {
     const FeatureFrame l = left_front.process(f.image, f.stamp_ns * 1e-9);
     const FeatureFrame r = right_front.process(f.right_image, f.stamp_ns * 1e-9);
     const SessionStep st = session.process(f.stamp_ns, &l, &r);
@@ -202,9 +211,7 @@ SessionRoad sessionRoad(int frames, const std::string& light) {
       out.infos += msg.key == "scale_ok" && msg.level == SessionMessage::Level::kInfo;
     }
     out.counters = st.counters;
-  };
-  std::string err;
-  EXPECT_TRUE(simulateSequence(left, &right, m.preset.traj, m.light, "", on_frame, nullptr, &err)) << err;
+  });
   return out;
 }
 }  // namespace
