@@ -6,7 +6,13 @@
 #   scripts/light_table.sh [--out DIR] [--sims DIR] [--bin DIR] [--frames N] [--seeds "0 11"]
 #                          [--presets "night ae_hunting ..."] [--cameras "pinhole fisheye"]
 #                          [--modes "iraf baseline he clahe"] [--sync] [--euroc DIR [--euroc-seeds "1"]]
-#                          [--no-sims] [--stereo] [-- iraf_vo_run args]
+#                          [--no-sims] [--stereo] [--draws "-20 0 20"] [-- iraf_vo_run args]
+#
+# --draws OFFSETS: run every mode once per offset, with features.n_features = the resolution rule's value for that
+# camera + offset (0 = the default run), and judge the rule on each mode's geometric mean ATE over the draws (lost
+# events summed). A single run sits anywhere within the spread that small changes cause (on the 200-frame sims the
+# same front-end gives 10-40 % different ATEs for n_features 20 apart): the draws tell a systematic difference from
+# a lucky or unlucky draw. Default "0" (one default run per mode).
 #
 # --euroc DIR: also the real EuRoC frames 0-305 of DIR (ASL, with groundtruth/groundtruth_tum_cam0.txt) passed
 # through the camera model with each preset as an iraf_vo_degrade profile (--seed per --euroc-seeds; cached in
@@ -35,6 +41,7 @@ euroc=""
 euroc_seeds="1"
 with_sims=1
 stereo=0
+draws="0"
 declare -a extra=()
 die() { echo "light_table.sh: $*" >&2; exit 2; }
 need() { [[ $# -ge 2 && -n "$2" ]] || die "$1 needs a value"; }
@@ -53,6 +60,7 @@ while [[ $# -gt 0 ]]; do
     --euroc-seeds) need "$@"; euroc_seeds="$2"; shift 2 ;;
     --no-sims) with_sims=0; shift ;;
     --stereo) stereo=1; shift ;;
+    --draws) need "$@"; draws="$2"; shift 2 ;;
     --sync) extra+=(--set tracker.mapping_thread=false); shift ;;
     --) shift; extra+=("$@"); break ;;
     *) die "unknown argument '$1' (see --help)" ;;
@@ -64,6 +72,8 @@ for p in $presets; do
 done
 for c in $cameras; do case "$c" in pinhole|fisheye) ;; *) die "--cameras: unknown camera '$c'" ;; esac; done
 for s in $seeds $euroc_seeds; do [[ "$s" =~ ^[0-9]+$ ]] || die "--seeds / --euroc-seeds: '$s' is not an integer"; done
+for k in $draws; do [[ "$k" =~ ^-?[0-9]+$ ]] || die "--draws: '$k' is not an integer"; done
+[[ -n "${draws// /}" ]] || die "--draws: no offset given"
 if [[ -n "$euroc" ]]; then
   [[ -f "$euroc/mav0/cam0/data.csv" ]] || die "--euroc $euroc: not an ASL sequence (no mav0/cam0/data.csv)"
   [[ -f "$euroc/groundtruth/groundtruth_tum_cam0.txt" ]] || die "--euroc $euroc: no groundtruth/groundtruth_tum_cam0.txt"
@@ -76,31 +86,49 @@ for t in iraf_vo_run iraf_vo_simulate iraf_vo_degrade; do [[ -x "$bin/$t" ]] || 
 export PATH=/usr/bin:$PATH
 mkdir -p "$out/runs" "$sims"
 csv="$out/results.csv"
-echo "preset,camera,seed,mode,ate_mm,lost_events,resets,tracked,frames,se3_mm,scale,path_m" > "$csv"
+echo "preset,camera,seed,mode,ate_mm,lost_events,resets,tracked,frames,se3_mm,scale,path_m,draw" > "$csv"
 declare -a vo_args=()
 [[ $stereo == 0 ]] || vo_args=(--stereo)
 t0=$(date +%s)
 log() { printf '[%4ds] %s\n' $(( $(date +%s) - t0 )) "$*" >&2; }
 
-# run_modes PRESET CAMERA SEED DATASET GT [iraf_vo_run args]: one row per mode into results.csv.
+# rule_features DATASET [iraf_vo_run args]: the resolution rule's n_features for the dataset's camera (the value
+# iraf_vo_run prints on its first frame).
+rule_features() {
+  local d="$1" n
+  shift
+  n=$("$bin/iraf_vo_run" --dataset "$d" "$@" ${vo_args[@]+"${vo_args[@]}"} ${extra[@]+"${extra[@]}"} --frames 1 \
+        --out "$out/runs/rule.txt" 2>&1 | sed -n 's/.*resolution rule: .*n_features \([0-9][0-9]*\).*/\1/p' | head -1)
+  [[ -n "$n" ]] || die "no resolution-rule line from iraf_vo_run on $d (needed by --draws)"
+  echo "$n"
+}
+
+# run_modes PRESET CAMERA SEED DATASET GT [iraf_vo_run args]: one row per mode and draw into results.csv.
 run_modes() {
-  local p="$1" c="$2" s="$3" d="$4" gt="$5" m r
+  local p="$1" c="$2" s="$3" d="$4" gt="$5" m r k n0=""
   shift 5
-  for m in $modes; do
-    r="$out/runs/${p}_${c}_s$s.$m"
-    "$bin/iraf_vo_run" --dataset "$d" --mode "$m" --gt "$gt" --out "$r.txt" --stats "$r.json" "$@" \
-      ${vo_args[@]+"${vo_args[@]}"} ${extra[@]+"${extra[@]}"} > "$r.log" 2>&1 \
-      || { log "iraf_vo_run failed on $p $c seed $s $m (see $r.log)"; continue; }
-    /usr/bin/python3 - "$r.json" "$r.log" "$p" "$c" "$s" "$m" >> "$csv" <<'EOF'
+  local -a draw_args
+  [[ "$draws" == "0" ]] || n0=$(rule_features "$d" "$@") || exit 2
+  for k in $draws; do
+    draw_args=()
+    [[ "$k" == 0 ]] || draw_args=(--set "features.n_features=$(( n0 + k ))")
+    for m in $modes; do
+      r="$out/runs/${p}_${c}_s$s.$m"
+      [[ "$k" == 0 ]] || r="$r.d$k"
+      "$bin/iraf_vo_run" --dataset "$d" --mode "$m" --gt "$gt" --out "$r.txt" --stats "$r.json" "$@" \
+        ${vo_args[@]+"${vo_args[@]}"} ${extra[@]+"${extra[@]}"} ${draw_args[@]+"${draw_args[@]}"} > "$r.log" 2>&1 \
+        || { log "iraf_vo_run failed on $p $c seed $s $m draw $k (see $r.log)"; continue; }
+      /usr/bin/python3 - "$r.json" "$r.log" "$p" "$c" "$s" "$m" "$k" >> "$csv" <<'EOF'
 import json, re, sys
 j = json.load(open(sys.argv[1]))
 path = re.search(r"GT path ([0-9.]+) m", open(sys.argv[2]).read())
 mm = lambda key: "%.1f" % (1000 * j[key]) if j.get(key) is not None else "nan"
 print(",".join(sys.argv[3:7] + [mm("ate_rmse"), str(j["lost_events"]), str(j["resets"]), str(j["tracked"]),
                                  str(j["frames"]), mm("ate_se3_rmse"), "%.5f" % j.get("ate_scale", float("nan")),
-                                 path.group(1) if path else "nan"]))
+                                 path.group(1) if path else "nan", sys.argv[7]]))
 EOF
-    log "$p $c seed $s $m: $(tail -1 "$csv")"
+      log "$p $c seed $s $m draw $k: $(tail -1 "$csv")"
+    done
   done
 }
 
@@ -144,28 +172,42 @@ import csv, collections, math, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
 stereo = sys.argv[2] == "1"
 key = "se3_mm" if stereo else "ate_mm"  # stereo: the metric (SE(3)-aligned) ATE
-seqs = collections.OrderedDict()
+# Every run of one sequence and mode (one per --draws offset) -> the geometric mean ATE, the lost events summed,
+# the mean Sim(3) scale.
+runs = collections.OrderedDict()
+draws = set()
 for r in rows:
-    seqs.setdefault((r["preset"], r["camera"], r["seed"]), {})[r["mode"]] = r
+    runs.setdefault((r["preset"], r["camera"], r["seed"]), collections.OrderedDict()).setdefault(r["mode"], []).append(r)
+    draws.add(r.get("draw", "0"))
+def combine(rs):
+    ates = [float(r[key]) for r in rs]
+    ate = math.nan if any(math.isnan(a) or a <= 0 for a in ates) else math.exp(sum(map(math.log, ates)) / len(ates))
+    return {"ate": ate, "lost": sum(int(r["lost_events"]) for r in rs), "n": len(rs),
+            "scale": sum(float(r["scale"]) for r in rs) / len(rs), "path_m": float(rs[0]["path_m"])}
 modes = []
 for r in rows:
     if r["mode"] not in modes:
         modes.append(r["mode"])
+if len(draws) > 1:
+    print("Geometric mean ATE over %d draws of features.n_features (the resolution rule's value + %s), lost events "
+          "summed over the draws." % (len(draws), " / ".join(sorted(draws, key=int))))
+    print()
 print("| sequence | " + " | ".join(modes) + " | iraf / best other | iraf / baseline | rule |" +
       (" iraf % of path / scale | metric |" if stereo else ""))
 print("|---|" + "---|" * (len(modes) + 3 + (2 if stereo else 0)))
 ok = total = metric_ok = 0
-for (p, c, s), by in seqs.items():
-    cell = lambda m: "%s (%s)" % (by[m][key], by[m]["lost_events"]) if m in by else "-"
+for (p, c, s), by_runs in runs.items():
+    by = {m: combine(rs) for m, rs in by_runs.items()}
+    cell = lambda m: ("%.1f (%d)" % (by[m]["ate"], by[m]["lost"])) if m in by else "-"
     line = "| %s, %s, seed %s | " % (p, c, s) + " | ".join(cell(m) for m in modes)
-    ate = lambda m: float(by[m][key]) if m in by else math.nan
+    ate = lambda m: by[m]["ate"] if m in by else math.nan
     others = [ate(m) for m in ("baseline", "he", "clahe") if m in by and not math.isnan(ate(m))]
     verdict = "-"
     rel = rel_base = math.nan
     if "iraf" in by and others:
         rel = ate("iraf") / min(others)
         rel_base = ate("iraf") / ate("baseline") if "baseline" in by else math.nan
-        extra_lost = "baseline" in by and int(by["iraf"]["lost_events"]) > 0 and int(by["baseline"]["lost_events"]) == 0
+        extra_lost = "baseline" in by and by["iraf"]["lost"] > 0 and by["baseline"]["lost"] == 0
         good = rel <= 1.1 and not extra_lost
         if p in ("night", "flashlight"):
             good = good and rel_base <= 0.5
@@ -174,8 +216,8 @@ for (p, c, s), by in seqs.items():
         total += 1
     metric = ""
     if stereo and "iraf" in by:
-        pct = 0.1 * ate("iraf") / float(by["iraf"]["path_m"])
-        scale = float(by["iraf"]["scale"])
+        pct = 0.1 * ate("iraf") / by["iraf"]["path_m"]
+        scale = by["iraf"]["scale"]
         good_metric = pct <= 0.5 and abs(scale - 1.0) <= 0.01
         metric_ok += good_metric
         metric = " %.3f %% / %.4f | %s |" % (pct, scale, "yes" if good_metric else "**no**")
