@@ -182,7 +182,7 @@ for r in rows:
 def combine(rs):
     ates = [float(r[key]) for r in rs]
     ate = math.nan if any(math.isnan(a) or a <= 0 for a in ates) else math.exp(sum(map(math.log, ates)) / len(ates))
-    return {"ate": ate, "lost": sum(int(r["lost_events"]) for r in rs), "n": len(rs),
+    return {"ate": ate, "lost": sum(int(r["lost_events"]) for r in rs),
             "scale": sum(float(r["scale"]) for r in rs) / len(rs), "path_m": float(rs[0]["path_m"])}
 modes = []
 for r in rows:
