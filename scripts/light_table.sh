@@ -227,8 +227,11 @@ for (p, c, s), by_runs in runs.items():
         ok += good
         total += 1
     if several:
-        singles = [rule(p, {m: combine([r for r in rs if r.get("draw", "0") == d]) for m, rs in by_runs.items()
-                            if any(r.get("draw", "0") == d for r in rs)})[0] for d in sorted(draws, key=int)]
+        per_draw = collections.defaultdict(dict)  # draw -> mode -> its run
+        for m, rs in by_runs.items():
+            for r in rs:
+                per_draw[r.get("draw", "0")].setdefault(m, []).append(r)
+        singles = [rule(p, {m: combine(rs) for m, rs in per_draw[d].items()})[0] for d in per_draw]
         judged = [g for g in singles if g is not None]
         verdict += " | %d of %d" % (sum(judged), len(judged))
         single_ok += sum(judged)
