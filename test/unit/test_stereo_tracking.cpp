@@ -35,6 +35,10 @@ StereoRun runSequence(CameraModelPtr cam, int right_until, int frames = 70, bool
   TrackerParams p;
   p.mapping_thread = false;  // deterministic
   p.ba_max_num_iterations = 5;
+  // The BA's CPU-time budget (0.1 s) depends on the machine's speed: under the address sanitizer on a slow machine
+  // one of two identical runs hit it and the other did not (positions 2e-5 m apart at frame 39). The runs here are
+  // compared with each other, so the budget is lifted.
+  p.ba_max_solver_time_in_seconds = 10.0;
   p.stereo_match_every_frame = every_frame;
   Tracker tracker(rig, p);
   EXPECT_TRUE(tracker.isStereo());
