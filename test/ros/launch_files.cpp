@@ -130,7 +130,9 @@ TEST(LaunchFiles, EurocWithACompressedBag) {
   EXPECT_TRUE(waitFor([&] { return w.hasNewMap(1); }, 5.0)) << "no NEW_MAP event for epoch 1";
   {
     std::lock_guard<std::mutex> l(w.m);
-    if (!w.odom.empty()) EXPECT_EQ(w.odom.back()->child_frame_id, "base_link");
+    if (!w.odom.empty()) {
+      EXPECT_EQ(w.odom.back()->child_frame_id, "base_link");
+    }
   }
   EXPECT_TRUE(waitFor([&] { return tf.canTransform("base_link", "cam0", ros::Time(0)); }, 5.0))
       << "no static TF base_link -> cam0 from base_from_camera_file";
@@ -141,7 +143,7 @@ TEST(LaunchFiles, EurocWithACompressedBag) {
       EXPECT_FALSE(line.find("[rviz-") != std::string::npos && line.find("has died") != std::string::npos) << line;
   }
   // The README's command-line checks on the running graph (the echoes started with the launch: the bag is short).
-  for (const std::string& topic : {"tracking_status", "tracking_events", "diagnostics"}) {
+  for (const std::string topic : {"tracking_status", "tracking_events", "diagnostics"}) {
     const std::string out = g_dir + "/echo_" + topic + ".txt";
     EXPECT_TRUE(waitFor([&] { return readFile(out).find("header") != std::string::npos; }, 20.0))
         << "rostopic echo -n 1 /" << topic << ": " << readFile(out);
@@ -205,7 +207,9 @@ TEST(LaunchFiles, LiveCameraFedByABag) {
   EXPECT_TRUE(waitFor([&] { return w.odomCount() >= 20; }, 90.0)) << "no odometry; " << readFile(log);
   {
     std::lock_guard<std::mutex> l(w.m);
-    if (!w.odom.empty()) EXPECT_EQ(w.odom.back()->child_frame_id, "base_link");
+    if (!w.odom.empty()) {
+      EXPECT_EQ(w.odom.back()->child_frame_id, "base_link");
+    }
   }
   EXPECT_TRUE(waitFor([&] { return tf.canTransform("base_link", "cam0", ros::Time(0)); }, 5.0))
       << "no base_link -> cam0 from publish_camera_tf";

@@ -218,7 +218,9 @@ TEST_F(SessionFixture, EveryNewMapIsANewEpochWithItsCause) {
       const FeatureFrame f = frame(i);
       const SessionStep st = s.process(stampOf(i) + offset, &f);
       if (st.new_epoch) epochs.emplace_back(st.counters.epoch, st.epoch_cause);
-      if (!st.new_epoch && !epochs.empty()) EXPECT_EQ(st.counters.epoch, epochs.back().first) << i;
+      if (!st.new_epoch && !epochs.empty()) {
+        EXPECT_EQ(st.counters.epoch, epochs.back().first) << i;
+      }
     }
   };
   feedEpochs(0, 30);

@@ -163,7 +163,9 @@ TEST(SimAutoExposure, StepResponseConvergesWithinStepLimits) {
   EXPECT_DOUBLE_EQ(e.time_s, p.max_time_s);
   EXPECT_GT(e.gain, 1.8);
   for (const Exposure& x : seq) {
-    if (x.time_s < p.max_time_s) EXPECT_DOUBLE_EQ(x.gain, 1.0);
+    if (x.time_s < p.max_time_s) {
+      EXPECT_DOUBLE_EQ(x.gain, 1.0);
+    }
   }
 }
 
