@@ -23,20 +23,28 @@ using ceres_blocks::ReprojectionCost;
 
 namespace {
 
-// Sanitizer builds (ASan, TSan) run the solver several times slower than the code they check. The time budgets grow
-// by as much, so that they stop a solve where the uninstrumented build does (BA's 0.1 s budget was hit in one of two
-// identical runs under ASan on a slow machine, and their poses differed).
+// Sanitizer builds (ASan, TSan; GCC's macros, clang's __has_feature) run the solver several times slower than the
+// code they check. The time budgets grow by as much, so that they stop a solve where the uninstrumented build does
+// (BA's 0.1 s budget was hit in one of two identical runs under ASan on a slow machine, and their poses differed).
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-constexpr double kInstrumentedSlowdown = 10.0;
+#define IRAF_VO_INSTRUMENTED 1
 #elif defined(__has_feature)
 #if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
+#define IRAF_VO_INSTRUMENTED 1
+#endif
+#endif
+#ifdef IRAF_VO_INSTRUMENTED
 constexpr double kInstrumentedSlowdown = 10.0;
 #else
 constexpr double kInstrumentedSlowdown = 1.0;
 #endif
-#else
-constexpr double kInstrumentedSlowdown = 1.0;
-#endif
+
+// The options a solver runs with: the time budgets scaled by kInstrumentedSlowdown.
+BAOptions withInstrumentedBudgets(BAOptions options) {
+  options.max_cpu_seconds *= kInstrumentedSlowdown;
+  options.max_solver_time_in_seconds *= kInstrumentedSlowdown;
+  return options;
+}
 
 double threadCpuSeconds() {
   timespec ts{};
@@ -49,7 +57,7 @@ double threadCpuSeconds() {
 class AbortCallback final : public ceres::IterationCallback {
  public:
   AbortCallback(const std::atomic<bool>* flag, double max_cpu_seconds)
-      : flag_(flag), max_cpu_(kInstrumentedSlowdown * max_cpu_seconds), cpu0_(threadCpuSeconds()) {}
+      : flag_(flag), max_cpu_(max_cpu_seconds), cpu0_(threadCpuSeconds()) {}
   ceres::CallbackReturnType operator()(const ceres::IterationSummary&) override {
     if (flag_ && flag_->load()) return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
     if (max_cpu_ > 0.0 && threadCpuSeconds() - cpu0_ > max_cpu_) {
@@ -145,7 +153,7 @@ bool solveWithCeres(const CameraModel& cam, const std::vector<BAKeyframe>& kfs, 
     if (pose_added[k]) ordering->AddElementToGroup(&(*poses)[7 * k], 1);
   so.linear_solver_ordering = ordering;
   so.max_num_iterations = options.max_num_iterations;
-  so.max_solver_time_in_seconds = kInstrumentedSlowdown * options.max_solver_time_in_seconds;
+  so.max_solver_time_in_seconds = options.max_solver_time_in_seconds;
   so.num_threads = std::max(1, options.num_threads);
   so.logging_type = ceres::SILENT;
   AbortCallback cb(options.abort, options.max_cpu_seconds);
@@ -173,7 +181,7 @@ bool solveWithSchurLM(const CameraModel& cam, const std::vector<BAKeyframe>& kfs
   schur_lm::Options so;
   so.max_num_iterations = options.max_num_iterations;
   so.huber_delta = options.huber_delta;
-  so.max_wall_seconds = kInstrumentedSlowdown * options.max_solver_time_in_seconds;
+  so.max_wall_seconds = options.max_solver_time_in_seconds;
   so.drop_points_behind = options.drop_points_behind;
   so.right_camera = options.right_camera;
   so.R_rl = options.T_r_l.linear();
@@ -220,8 +228,9 @@ bool bundleAdjust(const CameraModel& cam, std::vector<BAKeyframe>* kfs, std::vec
     sum.initial_rmse_px = rmseOfErrors2(e2_initial);
     // Right-camera observations: the Schur LM path (the Ceres cost has one camera).
     const bool ceres = options.use_ceres && !options.right_camera;
-    ok = ceres ? solveWithCeres(cam, *kfs, pts->size(), obs, valid, options, &poses, &points, &sum)
-                           : solveWithSchurLM(cam, *kfs, obs, valid, options, &poses, &points, &sum);
+    const BAOptions solve_options = withInstrumentedBudgets(options);
+    ok = ceres ? solveWithCeres(cam, *kfs, pts->size(), obs, valid, solve_options, &poses, &points, &sum)
+               : solveWithSchurLM(cam, *kfs, obs, valid, solve_options, &poses, &points, &sum);
     if (ok) {
       for (size_t k = 0; k < kfs->size(); ++k)
         if (!(*kfs)[k].fixed) (*kfs)[k].T_c_w = blockToPose(&poses[7 * k]);
