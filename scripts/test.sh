@@ -77,12 +77,12 @@ if [ "$(default_on_in_ci "${IRAF_VO_SANITIZE:-}")" = 1 ]; then
   export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
   export LSAN_OPTIONS="${LSAN_OPTIONS:-suppressions=$ROOT/test/sanitizers/lsan.supp:print_suppressions=0}"
   # Cases that repeat one code path many times for a statistic (120 two-view initializations; 300 tracked frames;
-  # step lengths over a 100-frame road; path lengths over two 31-frame stereo roads) and the health monitor's
-  # counter-test (the same faults with the monitor off) run in the main stage only: 3-11x slower under ASan, the
-  # shorter cases of the same programs run that code there.
+  # step lengths over a 100-frame road; path lengths over two 31-frame stereo roads) and the counter-tests (the
+  # health monitor's faults with the monitor off, a fisheye road with the forward keyframe rule off) run in the main
+  # stage only: 3-11x slower under ASan, the shorter cases of the same programs run that code there.
   asan_main_only=(TwoViewNoise.NoisyLowParallaxRefusesUndeterminedTranslations
     PoseCovariance.ConsistentWithTheFrameToFrameErrorOnASimulation
-    TrackingHighwayScale.StepLengthHoldsOnFarPointsNearTheParallaxGate
+    TrackingHighwayScale.StepLengthHoldsOnFarPointsNearTheParallaxGate TrackingHighwayScale.FisheyeStepLengthHoldsWithTheForwardRule
     StereoKeyframes.RoadPathIsMetric StereoKeyframes.FisheyeRoadStepsKeepTheirLength
     TrackingHealth.WithoutTheMonitorTheseFaultsPassAsTracking)
   export GTEST_FILTER="${IRAF_VO_ASAN_GTEST_FILTER:-*-$(IFS=:; echo "${asan_main_only[*]}")}"

@@ -14,7 +14,8 @@ bool needNewKeyframe(const KeyframeCandidate& c, const TrackerParams& p) {
   const bool timeout_and_changed = timeout && c.inliers < 0.98 * c.reference_tracked;
   const bool stereo_needs_close = c.stereo_close_tracked >= 0 && c.stereo_close_tracked < kStereoCloseTracked &&
                                   c.stereo_close_untracked_share > kStereoCloseUntrackedShare;
-  return losing_map || few_tracked || timeout_and_changed || stereo_needs_close;
+  const bool forward_losing = c.forward && c.inliers < c.reference_tracked;
+  return losing_map || forward_losing || few_tracked || timeout_and_changed || stereo_needs_close;
 }
 
 }  // namespace iraf_vo

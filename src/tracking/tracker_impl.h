@@ -18,6 +18,7 @@
 #include "iraf_vo/tracking/stereo_frame.h"
 
 #include <atomic>
+#include <cmath>
 #include <memory>
 #include <mutex>
 
@@ -107,6 +108,12 @@ struct Tracker::Impl {
   std::string checkHealth(const Frame& cur, const PoseTrackingResult& r, const Eigen::Isometry3d& T_last,
                           const Eigen::Isometry3d& T_predicted);
   bool addKeyframeIfNeeded(Frame& cur, TrackResult* res);
+  /// The motion model's translation lies within keyframe_forward_deg of the optical axis (either way).
+  bool movingForward() const {
+    const Eigen::Vector3d t = velocity.translation();
+    return p.keyframe_forward_deg > 0.0 && have_velocity && t.norm() > 0.0 &&
+           std::abs(t.z()) >= std::cos(p.keyframe_forward_deg * M_PI / 180.0) * t.norm();
+  }
   void handleLostFrame(const Frame& cur);
   TrackResult darkFrame(SteadyClock::time_point t_start, TrackResult res);
   void resetMap();

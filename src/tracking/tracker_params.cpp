@@ -91,6 +91,8 @@ const ParamTable<TrackerParams>& trackerParamTable() {
                       "Monocular keyframe rule: close points are nearer than this many frame steps (0 = off)"),
           doubleParam("keyframe_close_ratio", &P::keyframe_close_ratio, 0.0, 1.0,
                       "Monocular keyframe rule: no mapping wait while < this share of the reference's close points is tracked"),
+          doubleParam("keyframe_forward_deg", &P::keyframe_forward_deg, 0.0, 90.0,
+                      "Monocular keyframe rule: moving within this angle of the optical axis, a keyframe whenever a reference point is no longer tracked, no mapping wait [deg] (0 = off; a forward-looking road camera: 25)"),
           boolParam("mapping_thread", &P::mapping_thread,
                     "Mapping mode: BA on its own thread, written back at the next keyframe (false: inside track()); both deterministic"),
           intParam("mapping_busy_frames", &P::mapping_busy_frames, 0, 100,

@@ -100,6 +100,22 @@ TEST(KeyframePolicy, CloseRuleSkipsTheMappingWait) {
   EXPECT_FALSE(needNewKeyframe(c, p)) << "too few close points in the reference: rule off";
 }
 
+TEST(KeyframePolicy, ForwardMotionKeyframeOnEveryLostReferencePoint) {
+  TrackerParams p;  // mapping busy 3 frames; the forward flag is set by the tracker when keyframe_forward_deg > 0
+  KeyframeCandidate c;
+  c.reference_tracked = 100;
+  c.inliers = 95;  // above 0.9 * 100 and keyframe_min_tracked: (b) and (a) do not ask for one
+  c.frames_since_keyframe = 1;
+  EXPECT_FALSE(needNewKeyframe(c, p)) << "not moving forward: the ordinary rule";
+  c.forward = true;
+  EXPECT_TRUE(needNewKeyframe(c, p)) << "forward: a reference point lost, no mapping wait";
+  c.inliers = 100;
+  EXPECT_FALSE(needNewKeyframe(c, p)) << "forward, every reference point still tracked";
+  c.inliers = 95;
+  p.min_frames_between_keyframes = 2;
+  EXPECT_FALSE(needNewKeyframe(c, p)) << "never before min_frames_between_keyframes";
+}
+
 // The close-point counts of the keyframe rule: points at depths 2, 3, ..., 11 in front of both keyframes.
 TEST(MapTest, PointsNearerThanCountTheCloseOnes) {
   const int n = 10;

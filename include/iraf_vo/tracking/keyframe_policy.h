@@ -12,6 +12,13 @@
 //       of them): on a road the few near points leave the view within frames, and a pose from the far points
 //       alone loses the scale (the keyframe after it triangulates its near points at that scale).
 //   (c) frames since the last keyframe >= max_frames_between_keyframes AND inliers < 0.98 * reference
+//   (e) monocular, forward motion (the motion model's translation within keyframe_forward_deg of the optical axis):
+//       inliers < reference, no mapping wait. Moving along the optical axis the points ahead gain parallax only as
+//       they come near, and the near points that fix the step pass out of view within a few frames; a keyframe
+//       on every frame that loses one of the reference's points triangulates them while they are in view (on a
+//       road whose near surface has few corners a keyframe otherwise waits while the far points stay tracked, and
+//       the step is taken from them alone). Off by default (keyframe_forward_deg 0): on rooms and EuRoC it moves
+//       results both ways (docs/decisions.md); 25 for a forward-looking road camera.
 //   (d) stereo (ORB-SLAM's stereo close-point condition): fewer than kStereoCloseTracked inliers nearer than the
 //       stereo close depth (stereo_min_disparity_px) AND the last keyframe left close left-right matches without a
 //       map point for more than kStereoCloseUntrackedShare of its keypoints (the scene offers close points the map
@@ -32,6 +39,7 @@ struct KeyframeCandidate {
   int reference_tracked = 0;     // points of the last keyframe observed by >= 2 keyframes
   int reference_close = 0;       // of those, nearer than keyframe_close_steps frame steps to it
   int close_tracked = 0;         // inliers nearer than that to the current frame
+  bool forward = false;          // monocular: the motion model moves within keyframe_forward_deg of the optical axis
   int stereo_close_tracked = -1;   // stereo: inliers nearer than the stereo close depth (-1: monocular)
   double stereo_close_untracked_share = 0.0;  // stereo: the last keyframe's close left-right matches without a map
                                              // point, per keypoint of that keyframe
