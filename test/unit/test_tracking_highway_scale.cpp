@@ -102,7 +102,7 @@ TEST(TrackingHighwayScale, StepLengthHoldsOnFarPointsNearTheParallaxGate) {
 // keeps, the far points stay tracked and the ordinary rule waits (keyframes 35 -> 48). The forward-motion rule
 // (keyframe_forward_deg 25, as for a forward-looking road camera; off by default) makes a keyframe on every frame
 // that loses a reference point, so the near road points are triangulated while they are in view. Without it the
-// step at frames 26-35 falls to 0.07-0.4 of the start's.
+// step falls to 0.07-0.37 of the start's over frames 29-35.
 TEST(TrackingHighwayScale, FisheyeStepLengthHoldsWithTheForwardRule) {
   for (const bool forward_rule : {true, false}) {
     const HighwayRun run = trackHighway("fisheye", 2, 40, forward_rule ? 25.0 : 0.0);
