@@ -1,5 +1,8 @@
 #include "iraf_vo/tracking/keyframe_policy.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace iraf_vo {
 
 bool needNewKeyframe(const KeyframeCandidate& c, const TrackerParams& p) {
@@ -16,6 +19,37 @@ bool needNewKeyframe(const KeyframeCandidate& c, const TrackerParams& p) {
                                   c.stereo_close_untracked_share > kStereoCloseUntrackedShare;
   const bool forward_losing = c.forward && c.inliers < c.reference_tracked;
   return losing_map || forward_losing || few_tracked || timeout_and_changed || stereo_needs_close;
+}
+
+bool movesAlongOpticalAxis(const Eigen::Vector3d& t, double max_deg) {
+  const double n = t.norm();
+  return max_deg > 0.0 && n > 0.0 && std::abs(t.z()) >= std::cos(max_deg * M_PI / 180.0) * n;
+}
+
+void ForwardMotionWindow::add(bool forward, int frames) {
+  frames_ = std::max(1, frames);
+  recent_.push_back(forward);
+  forward_count_ += forward ? 1 : 0;
+  while (static_cast<int>(recent_.size()) > frames_) {
+    forward_count_ -= recent_.front() ? 1 : 0;
+    recent_.pop_front();
+  }
+  const int n = static_cast<int>(recent_.size());
+  if (!engaged_) {
+    engaged_ = n >= std::min(frames_, kForwardMinFrames) && forward_count_ >= kForwardShare * n;
+  } else {
+    engaged_ = forward_count_ >= kForwardKeepShare * n;
+  }
+}
+
+bool ForwardMotionWindow::sustained() const {
+  return engaged_;
+}
+
+void ForwardMotionWindow::clear() {
+  recent_.clear();
+  forward_count_ = 0;
+  engaged_ = false;
 }
 
 }  // namespace iraf_vo

@@ -244,6 +244,7 @@ bool Tracker::Impl::addKeyframeIfNeeded(Frame& cur, TrackResult* res) {
   KeyframeCandidate c;
   c.frames_since_keyframe = frames_since_kf;
   c.inliers = res->inliers;
+  forward_window.add(!stereo && movingForward(), p.keyframe_forward_frames);
   if (c.frames_since_keyframe >= p.min_frames_between_keyframes) {
     if (!stereo && have_velocity && p.keyframe_close_steps > 0) {  // the close-point rule (keyframe_policy.h)
       const double max_depth = p.keyframe_close_steps * velocity.translation().norm();
@@ -252,7 +253,7 @@ bool Tracker::Impl::addKeyframeIfNeeded(Frame& cur, TrackResult* res) {
     } else {
       c.reference_tracked = map.trackedPoints(last_kf_id, 2);
     }
-    c.forward = !stereo && movingForward();  // the forward-motion rule (keyframe_policy.h)
+    c.forward = forward_window.sustained();  // the forward-motion rule (keyframe_policy.h)
     if (stereo) {  // the stereo close-point rule (keyframe_policy.h)
       c.stereo_close_tracked = res->close_inliers;  // observeMetricScale
       c.stereo_close_untracked_share = kf_close_untracked_share;
@@ -336,6 +337,7 @@ void Tracker::Impl::resetMap() {
   last_ref_kf = -1;
   frames_since_kf = 0;
   kf_close_untracked_share = 0.0;
+  forward_window.clear();
   scale_monitor.restart();
   consecutive_lost = 0;
   map_settled = true;

@@ -36,6 +36,7 @@ struct Tracker::Impl {
   SignalCheck signal;
   Relocalizer relocalizer;
   MetricScaleMonitor scale_monitor;     // stereo: whether the metric map's scale is observed
+  ForwardMotionWindow forward_window;   // monocular: sustained forward motion (keyframe rule (e))
   std::unique_ptr<StereoFrame> stereo;  // null: monocular
 
   mutable std::mutex stats_mutex;
@@ -110,9 +111,7 @@ struct Tracker::Impl {
   bool addKeyframeIfNeeded(Frame& cur, TrackResult* res);
   /// The motion model's translation lies within keyframe_forward_deg of the optical axis (either way).
   bool movingForward() const {
-    const Eigen::Vector3d t = velocity.translation();
-    return p.keyframe_forward_deg > 0.0 && have_velocity && t.norm() > 0.0 &&
-           std::abs(t.z()) >= std::cos(p.keyframe_forward_deg * M_PI / 180.0) * t.norm();
+    return have_velocity && movesAlongOpticalAxis(velocity.translation(), p.keyframe_forward_deg);
   }
   void handleLostFrame(const Frame& cur);
   TrackResult darkFrame(SteadyClock::time_point t_start, TrackResult res);

@@ -12,13 +12,15 @@
 //       of them): on a road the few near points leave the view within frames, and a pose from the far points
 //       alone loses the scale (the keyframe after it triangulates its near points at that scale).
 //   (c) frames since the last keyframe >= max_frames_between_keyframes AND inliers < 0.98 * reference
-//   (e) monocular, forward motion (the motion model's translation within keyframe_forward_deg of the optical axis):
-//       inliers < reference, no mapping wait. Moving along the optical axis the points ahead gain parallax only as
-//       they come near, and the near points that fix the step pass out of view within a few frames; a keyframe
-//       on every frame that loses one of the reference's points triangulates them while they are in view (on a
-//       road whose near surface has few corners a keyframe otherwise waits while the far points stay tracked, and
-//       the step is taken from them alone). Off by default (keyframe_forward_deg 0): on rooms and EuRoC it moves
-//       results both ways (docs/decisions.md); 25 for a forward-looking road camera.
+//   (e) monocular, sustained forward motion (the motion model's translation within keyframe_forward_deg of the
+//       optical axis in at least kForwardShare of the last keyframe_forward_frames tracked frames, as a vehicle
+//       drives): inliers < reference, no mapping wait. Moving along the optical axis the points ahead gain parallax
+//       only as they come near, and the near points that fix the step pass out of view within a few frames; a
+//       keyframe on every frame that loses one of the reference's points triangulates them while they are in view
+//       (on a road whose near surface has few corners a keyframe otherwise waits while the far points stay tracked,
+//       and the step is taken from them alone). A hand-held or flying camera moves forward for a few frames at a
+//       time (EuRoC MH_01: at most 14 in a row, simulated rooms 4): the rule stays off there, where a keyframe on
+//       every lost point moved results both ways (docs/decisions.md).
 //   (d) stereo (ORB-SLAM's stereo close-point condition): fewer than kStereoCloseTracked inliers nearer than the
 //       stereo close depth (stereo_min_disparity_px) AND the last keyframe left close left-right matches without a
 //       map point for more than kStereoCloseUntrackedShare of its keypoints (the scene offers close points the map
@@ -28,6 +30,10 @@
 //       Left-right matching runs on keyframes only, so the last keyframe's untracked close matches stand in for
 //       ORB-SLAM's per-frame count.
 #pragma once
+
+#include <deque>
+
+#include <Eigen/Core>
 
 #include "iraf_vo/tracking/tracker_params.h"
 
@@ -39,7 +45,7 @@ struct KeyframeCandidate {
   int reference_tracked = 0;     // points of the last keyframe observed by >= 2 keyframes
   int reference_close = 0;       // of those, nearer than keyframe_close_steps frame steps to it
   int close_tracked = 0;         // inliers nearer than that to the current frame
-  bool forward = false;          // monocular: the motion model moves within keyframe_forward_deg of the optical axis
+  bool forward = false;          // monocular: sustained forward motion (ForwardMotionWindow::sustained)
   int stereo_close_tracked = -1;   // stereo: inliers nearer than the stereo close depth (-1: monocular)
   double stereo_close_untracked_share = 0.0;  // stereo: the last keyframe's close left-right matches without a map
                                              // point, per keypoint of that keyframe
@@ -56,5 +62,29 @@ constexpr int kStereoCloseTracked = 150;
 constexpr double kStereoCloseUntrackedShare = 0.07;
 
 bool needNewKeyframe(const KeyframeCandidate& c, const TrackerParams& p);
+
+/// Rule (e)'s direction test: a camera step t (in the camera frame) within max_deg of the optical axis, either way
+/// (false for max_deg <= 0 or no step).
+bool movesAlongOpticalAxis(const Eigen::Vector3d& t, double max_deg);
+
+constexpr double kForwardShare = 0.9;  // of the window's frames moving forward: sustained forward motion
+constexpr int kForwardMinFrames = 5;   // a younger window (the map's first tracked frames) needs this many
+constexpr double kForwardKeepShare = 0.5;  // once sustained, until fewer of the window's frames move forward
+
+/// Rule (e)'s memory: whether the camera moved forward in the recent tracked frames (one entry per tracked frame).
+class ForwardMotionWindow {
+ public:
+  /// One tracked frame; `frames` (keyframe_forward_frames) is the window's length.
+  void add(bool forward, int frames);
+  /// A full window with at least kForwardShare of its frames moving forward.
+  bool sustained() const;
+  void clear();
+
+ private:
+  std::deque<bool> recent_;
+  int frames_ = 0;
+  int forward_count_ = 0;
+  bool engaged_ = false;
+};
 
 }  // namespace iraf_vo

@@ -65,10 +65,11 @@ struct TrackerParams {
                                         // 0 = off
   double keyframe_close_ratio = 0.5;    // mapping counts as idle while the frame tracks fewer than this share of
                                         // the reference keyframe's close points (a thin near map running out)
-  double keyframe_forward_deg = 0.0;    // monocular: while the motion model moves the camera within this angle of
-                                        // its optical axis, a keyframe on every frame that tracks fewer of the
-                                        // reference keyframe's points than it has, no mapping wait; 0 = off (a
-                                        // forward-looking road camera: 25, docs/decisions.md)
+  double keyframe_forward_deg = 25.0;   // monocular: while the motion model moves the camera within this angle of
+                                        // its optical axis (sustained: keyframe_forward_frames), a keyframe on every
+                                        // frame that tracks fewer of the reference keyframe's points than it has,
+                                        // no mapping wait; 0 = off (keyframe_policy.h, docs/decisions.md)
+  int keyframe_forward_frames = 10;     // ... sustained: forward in 90 % of the last this many tracked frames
   // ---- local mapping ----
   bool mapping_thread = true;           // the mapping mode (local_mapper.h): BA on the mapping thread, written back
                                         // at the next keyframe; false: BA inside track(). Both deterministic.
