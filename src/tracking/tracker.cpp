@@ -253,7 +253,7 @@ bool Tracker::Impl::addKeyframeIfNeeded(Frame& cur, TrackResult* res) {
     } else {
       c.reference_tracked = map.trackedPoints(last_kf_id, 2);
     }
-    c.forward = forward_window.sustained();  // the forward-motion rule (keyframe_policy.h)
+    c.forward = p.keyframe_forward_deg > 0.0 && forward_window.sustained();  // the forward rule (keyframe_policy.h)
     if (stereo) {  // the stereo close-point rule (keyframe_policy.h)
       c.stereo_close_tracked = res->close_inliers;  // observeMetricScale
       c.stereo_close_untracked_share = kf_close_untracked_share;
