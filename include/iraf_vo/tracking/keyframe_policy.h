@@ -14,7 +14,7 @@
 //   (c) frames since the last keyframe >= max_frames_between_keyframes AND inliers < 0.98 * reference
 //   (e) monocular, sustained forward motion (the motion model's translation within keyframe_forward_deg of the
 //       optical axis in at least kForwardShare of the last keyframe_forward_frames tracked frames, as a vehicle
-//       drives): inliers < reference, no mapping wait. Moving along the optical axis the points ahead gain parallax
+//       drives; ForwardMotionWindow, with hysteresis): inliers < reference, no mapping wait. Moving along the optical axis the points ahead gain parallax
 //       only as they come near, and the near points that fix the step pass out of view within a few frames; a
 //       keyframe on every frame that loses one of the reference's points triangulates them while they are in view
 //       (on a road whose near surface has few corners a keyframe otherwise waits while the far points stay tracked,
@@ -76,7 +76,8 @@ class ForwardMotionWindow {
  public:
   /// One tracked frame; `frames` (keyframe_forward_frames) is the window's length.
   void add(bool forward, int frames);
-  /// A full window with at least kForwardShare of its frames moving forward.
+  /// Engaged once at least kForwardShare of the window's frames moved forward (a young window: from
+  /// kForwardMinFrames frames on); kept while at least kForwardKeepShare of them do.
   bool sustained() const;
   void clear();
 
