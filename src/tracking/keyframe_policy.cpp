@@ -27,16 +27,16 @@ bool movesAlongOpticalAxis(const Eigen::Vector3d& t, double max_deg) {
 }
 
 void ForwardMotionWindow::add(bool forward, int frames) {
-  frames_ = std::max(1, frames);
+  frames = std::max(1, frames);
   recent_.push_back(forward);
   forward_count_ += forward ? 1 : 0;
-  while (static_cast<int>(recent_.size()) > frames_) {
+  while (static_cast<int>(recent_.size()) > frames) {
     forward_count_ -= recent_.front() ? 1 : 0;
     recent_.pop_front();
   }
   const int n = static_cast<int>(recent_.size());
   if (!engaged_) {
-    engaged_ = n >= std::min(frames_, kForwardMinFrames) && forward_count_ >= kForwardShare * n;
+    engaged_ = n >= std::min(frames, kForwardMinFrames) && forward_count_ >= kForwardShare * n;
   } else {
     engaged_ = forward_count_ >= kForwardKeepShare * n;
   }

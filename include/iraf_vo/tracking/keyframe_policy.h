@@ -14,13 +14,13 @@
 //   (c) frames since the last keyframe >= max_frames_between_keyframes AND inliers < 0.98 * reference
 //   (e) monocular, sustained forward motion (the motion model's translation within keyframe_forward_deg of the
 //       optical axis in at least kForwardShare of the last keyframe_forward_frames tracked frames, as a vehicle
-//       drives; ForwardMotionWindow, with hysteresis): inliers < reference, no mapping wait. Moving along the optical axis the points ahead gain parallax
-//       only as they come near, and the near points that fix the step pass out of view within a few frames; a
-//       keyframe on every frame that loses one of the reference's points triangulates them while they are in view
-//       (on a road whose near surface has few corners a keyframe otherwise waits while the far points stay tracked,
-//       and the step is taken from them alone). A hand-held or flying camera moves forward for a few frames at a
-//       time (EuRoC MH_01: at most 14 in a row, simulated rooms 4): the rule stays off there, where a keyframe on
-//       every lost point moved results both ways (docs/decisions.md).
+//       drives; ForwardMotionWindow, with hysteresis): inliers < reference, no mapping wait. Moving along the
+//       optical axis the points ahead gain parallax only as they come near, and the near points that fix the step
+//       pass out of view within a few frames; a keyframe on every frame that loses one of the reference's points
+//       triangulates them while they are in view (on a road whose near surface has few corners a keyframe otherwise
+//       waits while the far points stay tracked, and the step is taken from them alone). A hand-held or flying
+//       camera moves forward for a few frames at a time (EuRoC MH_01: at most 14 in a row, simulated rooms 4): the
+//       rule stays off there, where a keyframe on every lost point moved results both ways (docs/decisions.md).
 //   (d) stereo (ORB-SLAM's stereo close-point condition): fewer than kStereoCloseTracked inliers nearer than the
 //       stereo close depth (stereo_min_disparity_px) AND the last keyframe left close left-right matches without a
 //       map point for more than kStereoCloseUntrackedShare of its keypoints (the scene offers close points the map
@@ -83,7 +83,6 @@ class ForwardMotionWindow {
 
  private:
   std::deque<bool> recent_;
-  int frames_ = 0;
   int forward_count_ = 0;
   bool engaged_ = false;
 };
