@@ -6,6 +6,7 @@
 # Env:   IRAF_VO_SANITIZE=1  afterwards also builds the core + unit tests with ASan + UBSan in build-asan/
 #                            (IRAF_VO_ASAN_BUILD_DIR) and runs them there (ctest -R gtest); any sanitizer
 #                            report fails the run. Default: 1 when CI=true, else 0 (IRAF_VO_SANITIZE=0 opts out).
+#                            Without ctest args the main stage then skips the gtests that run there (below).
 #        IRAF_VO_SANITIZE_TOOLS=1  also builds the CLI tools with the sanitizers (test_bad_cli then runs them;
 #                            otherwise it skips them in build-asan/).
 #        IRAF_VO_TSAN=1      afterwards also builds the core + the unit tests that run threads with ThreadSanitizer
