@@ -46,20 +46,23 @@ if [ "$INSTALL" = 1 ]; then
   fi
 fi
 
+build_targets=("${TARGETS[@]+"${TARGETS[@]}"}")
 if [ ${#TARGETS[@]} -eq 0 ]; then
   for f in "$ROOT"/test/fuzz/fuzz_*.cpp; do TARGETS+=("$(basename "$f" .cpp)"); done
+  build_targets=(fuzzers)  # all of them through one target: compiled in parallel
 fi
 
 mkdir -p "$BUILD_DIR"
 if [ ! -f "$BUILD_DIR/CMakeCache.txt" ]; then
-  cmake -S "$ROOT" -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  # A unity build, as scripts/test.sh's sanitizer stages.
+  cmake -S "$ROOT" -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_UNITY_BUILD=ON \
     -DCMAKE_C_COMPILER=clang-14 -DCMAKE_CXX_COMPILER=clang++-14 -DIRAF_VO_FUZZ=ON \
     -DCATKIN_ENABLE_TESTING=OFF -DPYTHON_EXECUTABLE=/usr/bin/python3 -DPython3_EXECUTABLE=/usr/bin/python3 \
     >"$BUILD_DIR/cmake.log" 2>&1 || { cat "$BUILD_DIR/cmake.log"; echo "fuzz.sh: cmake configure failed" >&2; exit 1; }
 else
   cmake "$BUILD_DIR" >"$BUILD_DIR/cmake.log" 2>&1 || { cat "$BUILD_DIR/cmake.log"; exit 1; }  # new sources
 fi
-cmake --build "$BUILD_DIR" --target "${TARGETS[@]}" -j"$(nproc)"
+cmake --build "$BUILD_DIR" --target "${build_targets[@]}" -j"$(nproc)"
 [ "$RUN" = 1 ] || exit 0
 
 export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:symbolize=1}"
