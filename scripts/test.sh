@@ -44,16 +44,12 @@ asan_main_only=(TwoViewNoise.NoisyLowParallaxRefusesUndeterminedTranslations Two
 # does not: the rostests and other non-gtest tests, the gtests that call the command-line tools (not built with the
 # sanitizers, so those cases skip there: the sources that name IRAF_VO_BIN_DIR) and the gtests of the asan_main_only
 # cases. Every other gtest runs once, under ASan + UBSan.
-main_gtests=()
+main_gtests=() asan_gtests=()
 if [ "$asan_on" = 1 ] && [ $# -eq 0 ]; then
-  test_srcs=("$ROOT"/test/unit/test_*.cpp "$ROOT"/test/ros_unit/test_*.cpp)
-  for src in "${test_srcs[@]}"; do
-    keep=0
-    grep -q "IRAF_VO_BIN_DIR" "$src" && keep=1
-    for c in "${asan_main_only[@]}"; do
-      grep -Eq "TEST(_F|_P)?\(${c%%.*}, *${c#*.}\)" "$src" && keep=1
-    done
-    if [ $keep = 1 ]; then main_gtests+=("$(basename "$src" .cpp)"); fi
+  cases=("${asan_main_only[@]/./, *}")  # Suite.Name -> "Suite, *Name", as in TEST(Suite, Name)
+  main_re="IRAF_VO_BIN_DIR|TEST(_F|_P)?\(($(IFS='|'; echo "${cases[*]}"))\)"
+  for src in "$ROOT"/test/unit/test_*.cpp "$ROOT"/test/ros_unit/test_*.cpp; do
+    if grep -Eq "$main_re" "$src"; then main_gtests+=("$(basename "$src" .cpp)"); else asan_gtests+=("$(basename "$src" .cpp)"); fi
   done
 fi
 
@@ -72,13 +68,8 @@ rm -rf "$BUILD_DIR/test_results"
 cd "$BUILD_DIR"
 status=0
 if [ ${#main_gtests[@]} -gt 0 ]; then
-  skipped=()
-  for src in "${test_srcs[@]}"; do
-    name=$(basename "$src" .cpp)
-    [[ " ${main_gtests[*]} " == *" $name "* ]] || skipped+=("$name")
-  done
-  echo "test.sh: the ASan + UBSan stage runs the other ${#skipped[@]} gtests; here: ${main_gtests[*]}, the rostests"
-  ctest --output-on-failure -j"$(nproc)" -E "_gtest_($(IFS='|'; echo "${skipped[*]}"))\$" || status=$?
+  echo "test.sh: the ASan + UBSan stage runs the other ${#asan_gtests[@]} gtests; here: ${main_gtests[*]}, the rostests"
+  ctest --output-on-failure -j"$(nproc)" -E "_gtest_($(IFS='|'; echo "${asan_gtests[*]}"))\$" || status=$?
 else
   ctest --output-on-failure -j"$(nproc)" "$@" || status=$?
 fi
