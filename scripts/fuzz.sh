@@ -46,10 +46,11 @@ if [ "$INSTALL" = 1 ]; then
   fi
 fi
 
-build_targets=("${TARGETS[@]+"${TARGETS[@]}"}")
+build_targets=(fuzzers)  # every fuzzer through one target: compiled in parallel
 if [ ${#TARGETS[@]} -eq 0 ]; then
   for f in "$ROOT"/test/fuzz/fuzz_*.cpp; do TARGETS+=("$(basename "$f" .cpp)"); done
-  build_targets=(fuzzers)  # all of them through one target: compiled in parallel
+else
+  build_targets=("${TARGETS[@]}")
 fi
 
 mkdir -p "$BUILD_DIR"
