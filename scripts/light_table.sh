@@ -6,7 +6,7 @@
 #   scripts/light_table.sh [--out DIR] [--sims DIR] [--bin DIR] [--frames N] [--seeds "0 11"]
 #                          [--presets "night ae_hunting ..."] [--cameras "pinhole fisheye"]
 #                          [--modes "iraf baseline he clahe"] [--sync] [--euroc DIR [--euroc-seeds "1"]]
-#                          [--no-sims] [--stereo] [--draws "-20 0 20"] [-- iraf_vo_run args]
+#                          [--no-sims] [--stereo] [--draws "-20 0 20"] [--reference DIR] [-- iraf_vo_run args]
 #
 # --draws OFFSETS: run every mode once per offset, with features.n_features = the resolution rule's value for that
 # camera + offset (0 = the default run), and judge the rule on each mode's geometric mean ATE over the draws (lost
@@ -15,6 +15,10 @@
 # a lucky or unlucky draw; the table's "single draws" column says on how many of the draws alone the rule holds
 # (0 of 3: a systematic loss; 2 of 3: within the spread). Distinct offsets; default "0" (one default run per mode).
 #
+# --reference DIR: an earlier table's output folder (same sims, frames, draws): the modes not in --modes are taken
+# from DIR/results.csv instead of being run, and the table is followed by the comparison with DIR's table on the same
+# sequences (iraf's ATE and the rule's verdict per sequence that changed, the pass count, iraf's geometric mean over
+# the runs). A change of the IRAF front-end then costs one mode's runs: --modes iraf --reference DIR.
 # --euroc DIR: also the real EuRoC frames 0-305 of DIR (ASL, with groundtruth/groundtruth_tum_cam0.txt) passed
 # through the camera model with each preset as an iraf_vo_degrade profile (--seed per --euroc-seeds; cached in
 # the --sims folder as euroc_P_sS); rows with camera "euroc". --no-sims: only those rows.
@@ -44,6 +48,7 @@ euroc_seeds="1"
 with_sims=1
 stereo=0
 draws="0"
+reference=""
 declare -a extra=()
 die() { echo "light_table.sh: $*" >&2; exit 2; }
 need() { [[ $# -ge 2 && -n "$2" ]] || die "$1 needs a value"; }
@@ -63,6 +68,7 @@ while [[ $# -gt 0 ]]; do
     --no-sims) with_sims=0; shift ;;
     --stereo) stereo=1; shift ;;
     --draws) need "$@"; draws="$2"; shift 2 ;;
+    --reference) need "$@"; reference="$2"; shift 2 ;;
     --sync) extra+=(--set tracker.mapping_thread=false); shift ;;
     --) shift; extra+=("$@"); break ;;
     *) die "unknown argument '$1' (see --help)" ;;
@@ -85,6 +91,9 @@ fi
 for m in $modes; do
   case "$m" in baseline|he|clahe|enhance|adaptive|culling|iraf) ;; *) die "--modes: unknown mode '$m'" ;; esac
 done
+[[ -z "$reference" || -f "$reference/results.csv" ]] || die "--reference $reference: no results.csv there"
+[[ -z "$reference" || "$(cd "$reference" && pwd)" != "$(mkdir -p "$out" && cd "$out" && pwd)" ]] \
+  || die "--reference: the same folder as --out (its results.csv is rewritten)"
 for t in iraf_vo_run iraf_vo_simulate iraf_vo_degrade; do [[ -x "$bin/$t" ]] || die "$bin/$t missing (build first: scripts/setup.sh)"; done
 [[ -n "$sims" ]] || sims="$out/sims"
 export PATH=/usr/bin:$PATH
@@ -171,7 +180,27 @@ if [[ -n "$euroc" ]]; then
   done
 fi
 
-/usr/bin/python3 - "$csv" "$stereo" > "$out/table.md" <<'EOF'
+if [[ -n "$reference" ]]; then  # the other modes' runs of the same sequences and draws from the reference
+  /usr/bin/python3 - "$csv" "$reference/results.csv" > "$out/reference.csv" <<'EOF'
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+ref = list(csv.DictReader(open(sys.argv[2])))
+key = lambda r: (r["preset"], r["camera"], r["seed"], r.get("draw", "0"))
+keys = {key(r) for r in rows}
+fields = list(csv.DictReader(open(sys.argv[1])).fieldnames)
+w = csv.writer(sys.stdout, lineterminator="\n")
+w.writerow(fields)
+for r in ref:
+    if key(r) in keys:
+        w.writerow([r.get(k, "0" if k == "draw" else "nan") for k in fields])
+EOF
+  awk -F, -v modes=" $modes " 'NR > 1 && index(modes, " " $4 " ") == 0' "$out/reference.csv" >> "$csv"
+  log "$(( $(wc -l < "$out/reference.csv") - 1 )) runs of $reference on these sequences; the modes not run here from them"
+fi
+
+# make_table CSV: the markdown table of a results.csv on stdout.
+make_table() {
+/usr/bin/python3 - "$1" "$stereo" <<'EOF'
 import csv, collections, math, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
 stereo = sys.argv[2] == "1"
@@ -251,4 +280,43 @@ if several:
 if stereo:
     print("metric (iraf SE(3) ATE <= 0.5 %% of the path, scale within 1 %%) on %d of %d sequences" % (metric_ok, total))
 EOF
+}
+
+make_table "$csv" > "$out/table.md"
 cat "$out/table.md"
+[[ -n "$reference" ]] || exit 0
+make_table "$out/reference.csv" > "$out/reference_table.md"
+echo
+echo "Against $reference (its table on these sequences: $out/reference_table.md):"
+/usr/bin/python3 - "$out/reference_table.md" "$out/table.md" "$out/reference.csv" "$csv" "$stereo" <<'EOF'
+import csv, math, sys
+def table(path):
+    head, rows = None, {}
+    for line in open(path):
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if line.startswith("| sequence"):
+            head = cells
+        elif head and line.startswith("| ") and ", seed " in line:
+            rows[cells[0]] = dict(zip(head, cells))
+    return rows
+before, after = table(sys.argv[1]), table(sys.argv[2])
+key = "se3_mm" if sys.argv[5] == "1" else "ate_mm"
+def iraf_geo(path):
+    a = [float(r[key]) for r in csv.DictReader(open(path)) if r["mode"] == "iraf"]
+    a = [x for x in a if x > 0 and not math.isnan(x)]
+    return (math.exp(sum(map(math.log, a)) / len(a)), len(a)) if a else (math.nan, 0)
+changed = 0
+for seq, b in before.items():
+    n = after.get(seq)
+    if not n or "iraf" not in b or "iraf" not in n or (b["iraf"] == n["iraf"] and b["rule"] == n["rule"]):
+        continue
+    changed += 1
+    mark = "" if b["rule"] == n["rule"] else ("  (now holds)" if n["rule"] == "yes" else "  (no longer holds)")
+    print("  %-34s iraf %s -> %s, iraf / best other %s -> %s%s" % (seq, b["iraf"], n["iraf"], b["iraf / best other"],
+                                                                  n["iraf / best other"], mark))
+holds = lambda t: sum(r.get("rule") == "yes" for r in t.values())
+gb, nb = iraf_geo(sys.argv[3])
+ga, na = iraf_geo(sys.argv[4])
+print("  %d of %d sequences changed; the rule holds on %d -> %d of %d; iraf's geometric mean ATE over %d -> %d runs: "
+      "%.3f -> %.3f mm" % (changed, len(before), holds(before), holds(after), len(after), nb, na, gb, ga))
+EOF
