@@ -1,9 +1,10 @@
 // The tracker in stereo mode on a synthetic stereo sequence: the map is metric from the first frame (positions
-// compared without any alignment or scale), and a right camera that stops keeps the tracker going with the left
-// one in the same metric map (counted, no reset).
+// compared without any alignment or scale), a right camera that stops keeps the tracker going with the left one in
+// the same metric map (counted, no reset), and a loss that cannot be relocalized restarts a metric map at once.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include "iraf_vo/tracking/tracker.h"
@@ -211,4 +212,65 @@ TEST(StereoTracking, FastFirstStepAfterTheStereoStart) {
     ASSERT_EQ(r.state, TrackingState::kTracking) << "frame " << i;
     EXPECT_LT((r.T_w_c.translation() - T_w_l.translation()).norm(), 0.05 * step) << "frame " << i;
   }
+}
+
+// A loss that relocalization cannot recover (after frame 29 the camera sees another scene, none of the map's points):
+// after lost_frames_before_reset lost frames the map is reset and a new metric map starts from the next stereo
+// frame, at the last good pose, with the true step lengths at once (no monocular start, no rescaling).
+TEST(StereoTracking, RestartAfterALossIsMetricAtOnce) {
+  const auto cam = std::make_shared<TestPinhole>(752, 480, 458.0, 376.0, 240.0);
+  StereoRig rig;
+  rig.left = rig.right = cam;
+  rig.T_r_l = makePose(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(-0.11, 0, 0));
+  TrackerParams p;
+  p.mapping_thread = false;
+  Tracker tracker(rig, p);
+  SyntheticWorld first, second;
+  first.addBox(1500, Eigen::Vector3d(-5, -3, 2.0), Eigen::Vector3d(5, 3, 9.0));
+  second.rng.seed(99);  // other points, other descriptors
+  second.addBox(1500, Eigen::Vector3d(-5, -3, 2.0), Eigen::Vector3d(5, 3, 9.0));
+  int lost = 0, restart = -1, tracked_after = 0;
+  double path_true = 0.0, path_est = 0.0;
+  Eigen::Vector3d last_true, last_est;
+  for (int i = 0; i < 60; ++i) {
+    const Eigen::Isometry3d T_w_l =
+        makePose(Eigen::Vector3d(0.0, 6.0 * std::sin(0.05 * i), 0.0), Eigen::Vector3d(0.02 * i, 0.0, 0.01 * i));
+    SyntheticWorld& world = i < 30 ? first : second;
+    const FeatureFrame left = world.render(*cam, T_w_l, 0.05 * i, 0.3, 4);
+    const FeatureFrame right = world.render(*cam, T_w_l * rig.T_r_l.inverse(), 0.05 * i, 0.3, 4);
+    const TrackResult r = tracker.track(left, &right);
+    if (i < 30) {
+      ASSERT_EQ(r.state, TrackingState::kTracking) << "frame " << i;
+      continue;
+    }
+    if (restart < 0) {
+      if (r.state == TrackingState::kLost) {
+        ++lost;
+        continue;
+      }
+      ASSERT_EQ(r.state, TrackingState::kTracking) << "frame " << i << ": " << r.init_status;
+      EXPECT_TRUE(r.initialized_now) << "frame " << i;
+      EXPECT_TRUE(r.stereo);
+      restart = i;
+    } else {
+      ASSERT_EQ(r.state, TrackingState::kTracking) << "frame " << i;
+      ++tracked_after;
+      path_true += (T_w_l.translation() - last_true).norm();
+      path_est += (r.T_w_c.translation() - last_est).norm();
+    }
+    last_true = T_w_l.translation();
+    last_est = r.T_w_c.translation();
+  }
+  tracker.waitForMapping();
+  const TrackerStats st = tracker.stats();
+  EXPECT_GE(lost, 1);
+  ASSERT_GT(restart, 0) << "no new map after the loss";
+  EXPECT_LE(restart, 30 + p.lost_frames_before_reset + 1) << "the new stereo map starts at the first frame after the reset";
+  EXPECT_EQ(st.resets, 1);
+  EXPECT_EQ(st.initializations, 2);
+  EXPECT_EQ(tracked_after, 59 - restart);
+  ASSERT_GT(path_true, 0.3);
+  EXPECT_NEAR(path_est / path_true, 1.0, 0.02) << "the new map's steps are metric";
+  std::printf("lost %d, restart at frame %d, path ratio after it %.4f over %.2f m\n", lost, restart, path_est / path_true,
+              path_true);
 }
