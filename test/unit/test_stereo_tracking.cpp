@@ -82,6 +82,27 @@ StereoRun runSequence(CameraModelPtr cam, int right_until, int frames = 70, bool
   return out;
 }
 
+/// Two identical cameras side by side, the right one 0.11 m along the left one's x axis (EuRoC's baseline).
+StereoRig sidewaysPair(const CameraModelPtr& cam) {
+  StereoRig rig;
+  rig.left = rig.right = cam;
+  rig.T_r_l = makePose(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(-0.11, 0, 0));
+  return rig;
+}
+
+/// A synchronous stereo tracker on the sideways pair of a 752 x 480 pinhole.
+struct PinholePair {
+  static TrackerParams synchronous() {
+    TrackerParams p;
+    p.mapping_thread = false;
+    return p;
+  }
+  std::shared_ptr<TestPinhole> cam = std::make_shared<TestPinhole>(752, 480, 458.0, 376.0, 240.0);
+  StereoRig rig = sidewaysPair(cam);
+  TrackerParams p = synchronous();
+  Tracker tracker{rig, p};
+};
+
 }  // namespace
 
 TEST(StereoTracking, MetricFromTheFirstFrame) {
@@ -193,13 +214,10 @@ TEST(StereoTracking, RigIsChecked) {
 // Its pose must come from the map (brute force + PnP), not from a projection search around the start pose, which
 // finds only the far points there and puts the camera short of where it went.
 TEST(StereoTracking, FastFirstStepAfterTheStereoStart) {
-  const auto cam = std::make_shared<TestPinhole>(752, 480, 458.0, 376.0, 240.0);
-  StereoRig rig;
-  rig.left = rig.right = cam;
-  rig.T_r_l = makePose(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(-0.11, 0, 0));
-  TrackerParams p;
-  p.mapping_thread = false;
-  Tracker tracker(rig, p);
+  PinholePair pair;
+  const auto& cam = pair.cam;
+  const StereoRig& rig = pair.rig;
+  Tracker& tracker = pair.tracker;
   SyntheticWorld world;
   world.addBox(800, Eigen::Vector3d(-6, -4, 2.5), Eigen::Vector3d(6, 4, 6));    // near: the metric points
   world.addBox(800, Eigen::Vector3d(-1500, -600, 1000), Eigen::Vector3d(1500, 600, 3000));  // far: no flow
@@ -218,13 +236,10 @@ TEST(StereoTracking, FastFirstStepAfterTheStereoStart) {
 // after lost_frames_before_reset lost frames the map is reset and a new metric map starts from the next stereo
 // frame, at the last good pose, with the true step lengths at once (no monocular start, no rescaling).
 TEST(StereoTracking, RestartAfterALossIsMetricAtOnce) {
-  const auto cam = std::make_shared<TestPinhole>(752, 480, 458.0, 376.0, 240.0);
-  StereoRig rig;
-  rig.left = rig.right = cam;
-  rig.T_r_l = makePose(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(-0.11, 0, 0));
-  TrackerParams p;
-  p.mapping_thread = false;
-  Tracker tracker(rig, p);
+  PinholePair pair;
+  const auto& cam = pair.cam;
+  const StereoRig& rig = pair.rig;
+  Tracker& tracker = pair.tracker;
   SyntheticWorld first, second;
   first.addBox(1500, Eigen::Vector3d(-5, -3, 2.0), Eigen::Vector3d(5, 3, 9.0));
   second.rng.seed(99);  // other points, other descriptors
@@ -265,7 +280,7 @@ TEST(StereoTracking, RestartAfterALossIsMetricAtOnce) {
   const TrackerStats st = tracker.stats();
   EXPECT_GE(lost, 1);
   ASSERT_GT(restart, 0) << "no new map after the loss";
-  EXPECT_LE(restart, 30 + p.lost_frames_before_reset + 1) << "the new stereo map starts at the first frame after the reset";
+  EXPECT_LE(restart, 30 + pair.p.lost_frames_before_reset + 1) << "the new stereo map starts at the first frame after the reset";
   EXPECT_EQ(st.resets, 1);
   EXPECT_EQ(st.initializations, 2);
   EXPECT_EQ(tracked_after, 59 - restart);
