@@ -246,7 +246,7 @@ TEST(StereoTracking, RestartAfterALossIsMetricAtOnce) {
   second.addBox(1500, Eigen::Vector3d(-5, -3, 2.0), Eigen::Vector3d(5, 3, 9.0));
   int lost = 0, restart = -1, tracked_after = 0;
   double path_true = 0.0, path_est = 0.0;
-  Eigen::Vector3d last_true, last_est;
+  Eigen::Vector3d last_true = Eigen::Vector3d::Zero(), last_est = Eigen::Vector3d::Zero();
   for (int i = 0; i < 60; ++i) {
     const Eigen::Isometry3d T_w_l =
         makePose(Eigen::Vector3d(0.0, 6.0 * std::sin(0.05 * i), 0.0), Eigen::Vector3d(0.02 * i, 0.0, 0.01 * i));
