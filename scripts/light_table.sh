@@ -183,11 +183,11 @@ fi
 if [[ -n "$reference" ]]; then  # the other modes' runs of the same sequences and draws from the reference
   /usr/bin/python3 - "$csv" "$reference/results.csv" > "$out/reference.csv" <<'EOF'
 import csv, sys
-rows = list(csv.DictReader(open(sys.argv[1])))
+reader = csv.DictReader(open(sys.argv[1]))
+rows, fields = list(reader), reader.fieldnames
 ref = list(csv.DictReader(open(sys.argv[2])))
 key = lambda r: (r["preset"], r["camera"], r["seed"], r.get("draw", "0"))
 keys = {key(r) for r in rows}
-fields = list(csv.DictReader(open(sys.argv[1])).fieldnames)
 w = csv.writer(sys.stdout, lineterminator="\n")
 w.writerow(fields)
 for r in ref:
