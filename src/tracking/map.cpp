@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <unordered_map>
 
 namespace iraf_vo {
 
@@ -213,6 +214,19 @@ int Map::trackedPoints(long kf_id, size_t min_observations, double max_depth, in
     }
   }
   return n;
+}
+
+long Map::mostCovisibleKeyframe(const std::vector<long>& ids, long fallback) const {
+  std::lock_guard<std::mutex> lk(mutex_);
+  std::unordered_map<long, int> shared;  // keyframe id -> points of `ids` it observes
+  for (long pid : ids) {
+    auto pt = pid < 0 ? points_.end() : points_.find(pid);
+    if (pt != points_.end())
+      for (const auto& kv : pt->second->obs) ++shared[kv.first];
+  }
+  std::pair<int, long> best(0, fallback);  // most points, then the newest keyframe
+  for (const auto& kv : shared) best = std::max(best, std::make_pair(kv.second, kv.first));
+  return best.second;
 }
 
 int Map::pointsNearerThan(const std::vector<long>& ids, const Eigen::Isometry3d& T_c_w, double max_depth) const {

@@ -83,6 +83,7 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in, bool has_right, RightFe
   // between the pose estimate, the keyframe created from it and T_last_rel_kf (see Map::lockUpdates).
   std::unique_lock<std::mutex> map_update = map.lockUpdates();
   if (stereo && p.stereo_match_every_frame) stereoMatches(cur, &res);  // right residuals in the pose refinement
+  moved_on_after_dark = false;
   if (!trackWithMotionModel(cur, &res) && !relocalizeAfterDarkness(cur, &res)) {
     map_update.unlock();
     health.restart();
@@ -94,8 +95,11 @@ TrackResult Tracker::Impl::track(const FeatureFrame& in, bool has_right, RightFe
   consecutive_lost = 0;
   res.relocalized_after_frames = signal.trackedFrame();
   if (res.relocalized_after_frames > 0) {
-    // The motion since the last pose spans the dark frames: no velocity for the next prediction.
-    have_velocity = false;
+    // The motion since the last pose spans the dark frames: no velocity for the next prediction, unless the pose
+    // came from the velocity before the dark.
+    have_velocity = moved_on_after_dark;
+    if (have_velocity) velocity = velocity_before_dark;
+    have_velocity_before_dark = false;
     health.restart();
     updateStats([&res](TrackerStats& s) {
       s.relocalizations++;
@@ -119,9 +123,17 @@ bool Tracker::Impl::trackWithMotionModel(Frame& cur, TrackResult* res) {
   // Prediction; the last frame's pose follows its reference keyframe if BA moved it.
   const Eigen::Isometry3d T_last = lastPose();
   const Eigen::Isometry3d T_predicted = have_velocity ? velocity * T_last : T_last;
+  const bool after_dark = signal.awaitingRelocalization();
+  // After darkness: where the velocity before the dark has taken the camera is a seed too (a vehicle keeps going in
+  // the dark); when a search from there ends with more map inliers than one from the last pose, the relocalization's
+  // ranked candidates decide (that seed among them).
+  if (after_dark && movedOnSeed(cur, T_last) &&
+      pose_tracker.inliersFrom(cur, *moved_on_seed, map, false, true) >
+          pose_tracker.inliersFrom(cur, T_last, map, predictionUnknown(), false))
+    return false;
   // After darkness the last pose is only a guess: a relocalization from the search around it needs
   // kMinAcceptedInliers before that search is narrowed around the refined pose (PoseTracker::trackLocalMap).
-  const int min_search_inliers = signal.awaitingRelocalization() ? Relocalizer::kMinAcceptedInliers : 0;
+  const int min_search_inliers = after_dark ? Relocalizer::kMinAcceptedInliers : 0;
   return trackFrom(cur, T_last, T_predicted, res, min_search_inliers);
 }
 
@@ -131,42 +143,10 @@ Eigen::Isometry3d Tracker::Impl::lastPose() const {
   return map.keyframePose(last_ref_kf, &T_kf) ? T_last_rel_kf * T_kf : last.T_c_w;
 }
 
-// After dark frames, when tracking from the last pose failed: the local map tracked from the poses the keyframe-wise
-// relocalization proposes, the one whose tracking ends with the most map inliers first (PnP seeds of 10-20 inliers
-// on a frame still recovering its exposure can be the wrong keyframe's: the search around such a seed settles on a
-// pose with fewer inliers than around the right one); the same inlier and health checks decide.
-bool Tracker::Impl::relocalizeAfterDarkness(Frame& cur, TrackResult* res) {
-  if (!signal.recovering()) return false;
-  const auto t0 = SteadyClock::now();
-  std::vector<RelocalizationCandidate> candidates = relocalizer.candidates(cur, map, 3);
-  rankByTrackedInliers(cur, &candidates);
-  res->timing.ms_match += msSince(t0);
-  const Eigen::Isometry3d T_last = lastPose();
-  for (const RelocalizationCandidate& c : candidates) {
-    std::fill(cur.point_id.begin(), cur.point_id.end(), -1);  // of a rejected attempt
-    res->rejected.clear();
-    if (trackFrom(cur, T_last, c.T_c_w, res, 0, roughSeed(c))) return res->used_pnp = true;
-  }
-  return false;
-}
-
-void Tracker::Impl::rankByTrackedInliers(const Frame& cur, std::vector<RelocalizationCandidate>* candidates) const {
-  if (candidates->size() < 2) return;
-  std::vector<std::pair<int, size_t>> order;  // (-inliers, rank from the relocalizer)
-  for (size_t k = 0; k < candidates->size(); ++k)
-    order.emplace_back(
-        -pose_tracker.inliersFrom(cur, (*candidates)[k].T_c_w, map, predictionUnknown(), roughSeed((*candidates)[k])),
-        k);
-  std::sort(order.begin(), order.end());
-  std::vector<RelocalizationCandidate> ranked;
-  for (const auto& o : order) ranked.push_back((*candidates)[o.second]);
-  *candidates = std::move(ranked);
-}
-
 bool Tracker::Impl::trackFrom(Frame& cur, const Eigen::Isometry3d& T_last, const Eigen::Isometry3d& T_predicted,
-                              TrackResult* res, int min_search_inliers, bool rough_prediction) {
-  const PoseTrackingResult r =
-      pose_tracker.trackLocalMap(cur, T_predicted, &map, predictionUnknown(), min_search_inliers, rough_prediction);
+                              TrackResult* res, int min_search_inliers, bool rough_prediction, bool prediction_known) {
+  const PoseTrackingResult r = pose_tracker.trackLocalMap(cur, T_predicted, &map, predictionUnknown() && !prediction_known,
+                                                          min_search_inliers, rough_prediction);
   res->matches = r.matches;
   res->inliers = r.inliers;
   res->used_pnp = r.used_pnp;
@@ -246,12 +226,16 @@ bool Tracker::Impl::addKeyframeIfNeeded(Frame& cur, TrackResult* res) {
   c.inliers = res->inliers;
   forward_window.add(!stereo && movingForward(), p.keyframe_forward_frames);
   if (c.frames_since_keyframe >= p.min_frames_between_keyframes) {
+    // The ratio test's reference keyframe: the last one, or while recovering from darkness the one sharing the most
+    // points with the frame (ORB-SLAM's reference keyframe): a keyframe made on a frame still recovering its exposure
+    // holds few points, and with it as reference no keyframe would come while the map ages.
+    const long ref_kf = signal.recovering() ? map.mostCovisibleKeyframe(cur.point_id, last_kf_id) : last_kf_id;
     if (!stereo && have_velocity && p.keyframe_close_steps > 0) {  // the close-point rule (keyframe_policy.h)
       const double max_depth = p.keyframe_close_steps * velocity.translation().norm();
       c.close_tracked = map.pointsNearerThan(cur.point_id, cur.T_c_w, max_depth);
-      c.reference_tracked = map.trackedPoints(last_kf_id, 2, max_depth, &c.reference_close);
+      c.reference_tracked = map.trackedPoints(ref_kf, 2, max_depth, &c.reference_close);
     } else {
-      c.reference_tracked = map.trackedPoints(last_kf_id, 2);
+      c.reference_tracked = map.trackedPoints(ref_kf, 2);
     }
     c.forward = p.keyframe_forward_deg > 0.0 && forward_window.sustained();  // the forward rule (keyframe_policy.h)
     if (stereo) {  // the stereo close-point rule (keyframe_policy.h)
@@ -322,6 +306,7 @@ TrackResult Tracker::Impl::darkFrame(SteadyClock::time_point t_start, TrackResul
   if (!has_map) return notTracked(reinitializing ? TrackingState::kLost : state.load(), t_start, res);
   signal.darkFrame();
   state = TrackingState::kLost;
+  if (have_velocity) velocity_before_dark = velocity, have_velocity_before_dark = true;
   have_velocity = false;
   health.restart();
   return notTracked(TrackingState::kLost, t_start, res);
@@ -333,6 +318,7 @@ void Tracker::Impl::resetMap() {
   initializer.clearReference();
   metric_map = false;
   have_velocity = false;
+  have_velocity_before_dark = false;
   last_kf_id = -1;
   last_ref_kf = -1;
   frames_since_kf = 0;

@@ -21,6 +21,7 @@
 #include <cmath>
 #include <memory>
 #include <mutex>
+#include <optional>
 
 namespace iraf_vo {
 
@@ -50,6 +51,12 @@ struct Tracker::Impl {
   Eigen::Isometry3d T_last_rel_kf = Eigen::Isometry3d::Identity();  // T_last_c_w * T_kf_c_w^-1
   Eigen::Isometry3d velocity = Eigen::Isometry3d::Identity();
   bool have_velocity = false;
+  // The motion model when the light went: after darkness the relocalization also searches from the last pose moved
+  // on at that velocity over the frames since (a vehicle keeps going in the dark).
+  Eigen::Isometry3d velocity_before_dark = Eigen::Isometry3d::Identity();
+  bool have_velocity_before_dark = false;
+  bool moved_on_after_dark = false;  // this frame was tracked from that seed
+  std::optional<Eigen::Isometry3d> moved_on_seed;
   bool metric_map = false;  // the map was made from a stereo frame (its scale is observed)
   PoseCovarianceCalibrator covariance_calibrator;  // of the poses output as TRACKING
   long last_kf_id = -1;
@@ -87,6 +94,9 @@ struct Tracker::Impl {
   bool initializeStereo(Frame& cur, TrackResult* res);
   bool mapBaselineSettled(const Frame& cur) const;
   bool trackWithMotionModel(Frame& cur, TrackResult* res);
+  /// After darkness: *moved_on_seed = the last pose moved on at the velocity before the dark over the frames since the
+  /// last tracked one; false (and none) without that velocity.
+  bool movedOnSeed(const Frame& cur, const Eigen::Isometry3d& T_last);
   Eigen::Isometry3d lastPose() const;
   /// Orders relocalization candidates by the map inliers tracking from each ends with (most first; ties keep the
   /// relocalizer's order).
@@ -103,7 +113,7 @@ struct Tracker::Impl {
            r.median_depth > p.dark_relocalization_max_depth_ratio * last_median_depth;
   }
   bool trackFrom(Frame& cur, const Eigen::Isometry3d& T_last, const Eigen::Isometry3d& T_predicted, TrackResult* res,
-                 int min_search_inliers = 0, bool rough_prediction = false);
+                 int min_search_inliers = 0, bool rough_prediction = false, bool prediction_known = false);
   bool relocalizeAfterDarkness(Frame& cur, TrackResult* res);
   Eigen::Matrix<double, 6, 6> initialPoseInformation(const Frame& cur) const;
   std::string checkHealth(const Frame& cur, const PoseTrackingResult& r, const Eigen::Isometry3d& T_last,

@@ -173,6 +173,8 @@ class Map {
   /// nearer than max_depth to that keyframe (one pass).
   int trackedPoints(long kf_id, size_t min_observations, double max_depth = 0.0, int* nearer = nullptr) const;
   /// Of the points ids (-1: none) those nearer than max_depth to a camera at T_c_w.
+  /// The keyframe observing the most of these points (ORB-SLAM's reference keyframe); `fallback` when none does.
+  long mostCovisibleKeyframe(const std::vector<long>& ids, long fallback) const;
   int pointsNearerThan(const std::vector<long>& ids, const Eigen::Isometry3d& T_c_w, double max_depth) const;
 
   // ---- local mapping ----

@@ -23,6 +23,7 @@ struct RelocalizationCandidate {
   Eigen::Isometry3d T_c_w = Eigen::Isometry3d::Identity();
   int pnp_inliers = 0;
   int keyframe_rank = 0;  // 0 = the newest keyframe
+  bool moved_on = false;  // not a keyframe's PnP: the last pose moved on at the velocity before the dark (tracker)
 };
 
 class Relocalizer {

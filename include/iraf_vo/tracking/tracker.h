@@ -22,8 +22,10 @@
 //
 // Darkness (signal_check.h): a frame whose image carries no usable signal is lost with a "too dark" reason and
 //   is not tracked; the map and the last pose are kept and, once the light returns, the lost-frame path below
-//   relocalizes in that map (+ the keyframe-wise Relocalizer); for dark_relocalization_frames frames after the
-//   dark ones a loss resets the map only after that many lost frames.
+//   relocalizes in that map (+ the keyframe-wise Relocalizer and the last pose moved on at the velocity before the
+//   dark, ranked by the map inliers tracking from each ends with: tracker_relocalization.cpp); for
+//   dark_relocalization_frames frames after the dark ones a loss resets the map only after that many lost frames,
+//   and the keyframe rule's reference is the keyframe sharing the most points with the frame.
 // Loss recovery: a frame with < min_tracking_inliers inliers is lost (kLost; lost_frames++, and lost_events++
 //   on the transition). The next frames try relocalization (brute force against the map's points + PnP).
 //   After lost_frames_before_reset consecutive lost frames the map is cleared and initialization restarts
