@@ -160,7 +160,7 @@ const ParamTable<TrackerParams>& trackerParamTable() {
           doubleParam("washout_min_clipped", &P::washout_min_clipped, 0.0, 1.0,
                       "An image with at least this fraction of its 4x4-pixel means clipped white (>= 250) is washed out: no usable signal, like a dark one (1 = never)"),
           intParam("dark_relocalization_frames", &P::dark_relocalization_frames, 0, 100000,
-                   "After dark frames: for this many frames a loss resets the map only after this many lost frames (relocalization in the same map)"),
+                   "After dark frames: for this many frames a loss resets the map only after this many lost frames (relocalization in the same map), and the keyframe rule's reference is the keyframe sharing the most points with the frame"),
           doubleParam("dark_relocalization_max_depth_ratio", &P::dark_relocalization_max_depth_ratio, 0.0, 1000.0,
                       "A relocalization after darkness is refused while its inliers' median depth exceeds this multiple of the last tracked frame's (a pose on far points only; 0 = no check)"),
           boolParam("health_monitor", &P::health_monitor,

@@ -1,7 +1,8 @@
 // The pose tracker's relocalization path on a hand-built map: a projection search around a wrong prediction that
 // finds a small self-consistent set of matches (a decoy) keeps the wrong pose under the normal tracking threshold;
 // as a relocalization (min_search_inliers, after darkness) a decoy below that minimum is handed to the brute force
-// + PnP, and one above it loses to the PnP pose, which ends with more inliers.
+// + PnP, and one above it loses to the PnP pose, which ends with more inliers. And the map's most covisible keyframe,
+// the keyframe rule's reference while the tracker recovers from darkness.
 #include "iraf_vo/tracking/map.h"
 #include "iraf_vo/tracking/pose_tracker.h"
 #include "unit/tracking_test_utils.h"
@@ -164,4 +165,30 @@ TEST(PoseTrackerRelocalization, InliersFromAsksWhatTrackingWithoutAMotionModelDo
 }
 
 }  // namespace
+}  // namespace iraf_vo
+
+namespace iraf_vo {
+
+// The keyframe rule's reference while recovering from darkness: the keyframe observing most of the frame's points
+// (ORB-SLAM's reference keyframe), not the newest one when that one shares fewer.
+TEST(MapCovisibility, MostCovisibleKeyframeObservesMostOfTheFramesPoints) {
+  const int n = 40;
+  Map map;
+  Frame f0 = test::gridFrame(0, n, 0.0), f1 = test::gridFrame(1, n, 0.1);
+  auto kf0 = Keyframe::fromFrame(f0, f0.T_c_w), kf1 = Keyframe::fromFrame(f1, f1.T_c_w);
+  std::vector<NewMapPoint> pts;
+  for (int i = 0; i < n; ++i) pts.push_back({Eigen::Vector3d(0.01 * i, 0, 2), 0, i, 0, i});
+  int created = 0;
+  ASSERT_TRUE(map.createInitialMap(kf0, kf1, pts, n, &created));
+  const std::vector<long> all = kf1->point_id;
+  Frame weak = test::gridFrame(2, n, 0.2);  // a newer keyframe that observes only the first 5 points
+  for (int i = 0; i < 5; ++i) weak.point_id[i] = all[i];
+  const long weak_id = map.addKeyframe(weak);
+  EXPECT_EQ(map.mostCovisibleKeyframe(all, weak_id), kf1->id) << "40 shared points against 5: the newer of the two 40s";
+  std::vector<long> first_five(all.begin(), all.begin() + 5);
+  first_five.resize(n, -1);
+  EXPECT_EQ(map.mostCovisibleKeyframe(first_five, kf0->id), weak_id) << "a tie of 5: the newest keyframe";
+  EXPECT_EQ(map.mostCovisibleKeyframe(std::vector<long>(n, -1), kf0->id), kf0->id) << "no point: the fallback";
+}
+
 }  // namespace iraf_vo

@@ -155,5 +155,24 @@ struct PointView {
   }
 };
 
+// A frame with n keypoints on a grid, camera centre at (x, 0, 0) looking down +z.
+inline Frame gridFrame(long index, int n, double x) {
+  Frame f;
+  f.index = index;
+  for (int i = 0; i < n; ++i) {
+    cv::KeyPoint kp(10.f + 20.f * (i % 30), 10.f + 20.f * (i / 30), 31.f);
+    kp.octave = 0;
+    f.keypoints.push_back(kp);
+  }
+  f.descriptors = cv::Mat::zeros(n, 32, CV_8U);
+  for (int i = 0; i < n; ++i) f.descriptors.at<uint8_t>(i, 0) = static_cast<uint8_t>(i);
+  f.bearings.assign(n, Eigen::Vector3d::UnitZ());
+  f.valid.assign(n, 1);
+  f.point_id.assign(n, -1);
+  f.T_c_w = Eigen::Isometry3d::Identity();
+  f.T_c_w.translation() = Eigen::Vector3d(-x, 0, 0);
+  return f;
+}
+
 }  // namespace test
 }  // namespace iraf_vo
