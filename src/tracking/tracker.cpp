@@ -145,8 +145,9 @@ Eigen::Isometry3d Tracker::Impl::lastPose() const {
 
 bool Tracker::Impl::trackFrom(Frame& cur, const Eigen::Isometry3d& T_last, const Eigen::Isometry3d& T_predicted,
                               TrackResult* res, int min_search_inliers, bool rough_prediction, bool prediction_known) {
-  const PoseTrackingResult r = pose_tracker.trackLocalMap(cur, T_predicted, &map, predictionUnknown() && !prediction_known,
-                                                          min_search_inliers, rough_prediction);
+  const bool prediction_unknown = predictionUnknown() && !prediction_known;
+  const PoseTrackingResult r =
+      pose_tracker.trackLocalMap(cur, T_predicted, &map, prediction_unknown, min_search_inliers, rough_prediction);
   res->matches = r.matches;
   res->inliers = r.inliers;
   res->used_pnp = r.used_pnp;

@@ -69,7 +69,8 @@ TEST(TrackingDarkRoad, RelocalizesWhereTheMotionTookTheCamera) {
     // Monocular: the whole run is one map (one Sim(3)); stereo: metric as it is (SE(3)), its scale within 5 %.
     const iraf_vo::EvalResult r = evaluate(seq, tag, stereo ? iraf_vo::AlignMode::kSE3 : iraf_vo::AlignMode::kSim3);
     ASSERT_GT(r.gt_length, 90.0);
-    EXPECT_LE(r.ate.rmse, (stereo ? 0.02 : 0.01) * r.gt_length) << "ATE " << r.ate.rmse << " m over " << r.gt_length << " m";
+    EXPECT_LE(r.ate.rmse, (stereo ? 0.02 : 0.01) * r.gt_length)
+        << "ATE " << r.ate.rmse << " m over " << r.gt_length << " m";
     if (stereo) {
       EXPECT_NEAR(evaluate(seq, tag, iraf_vo::AlignMode::kSim3).scale, 1.0, 0.05);
     }

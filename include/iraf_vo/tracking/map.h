@@ -172,9 +172,9 @@ class Map {
   /// Points of keyframe kf_id observed by >= min_observations keyframes; with `nearer`, also how many of them are
   /// nearer than max_depth to that keyframe (one pass).
   int trackedPoints(long kf_id, size_t min_observations, double max_depth = 0.0, int* nearer = nullptr) const;
-  /// Of the points ids (-1: none) those nearer than max_depth to a camera at T_c_w.
   /// The keyframe observing the most of these points (ORB-SLAM's reference keyframe); `fallback` when none does.
   long mostCovisibleKeyframe(const std::vector<long>& ids, long fallback) const;
+  /// Of the points ids (-1: none) those nearer than max_depth to a camera at T_c_w.
   int pointsNearerThan(const std::vector<long>& ids, const Eigen::Isometry3d& T_c_w, double max_depth) const;
 
   // ---- local mapping ----

@@ -10,8 +10,9 @@
 // the pose tracker's projection search around the last pose (normal, then wide window, then brute-force matching
 // against all map points + PnP; a pose from the search needs Relocalizer::kMinAcceptedInliers before its narrow
 // re-search, else the PnP decides, and it competes with the PnP pose), then the keyframe-wise Relocalizer
-// (relocalizer.h) with the last pose moved on at the velocity before the dark (tracker_relocalization.cpp). Within dark_relocalization_frames frames after the last dark one a loss resets the map only after that many
-// consecutive lost frames (instead of lost_frames_before_reset).
+// (relocalizer.h) with the last pose moved on at the velocity before the dark (tracker_relocalization.cpp). Within
+// dark_relocalization_frames frames after the last dark one a loss resets the map only after that many consecutive
+// lost frames (instead of lost_frames_before_reset).
 #pragma once
 
 #include <iraf_vo/features/image_signal.h>
