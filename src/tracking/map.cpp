@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <unordered_map>
 
 namespace iraf_vo {
 
@@ -218,15 +217,25 @@ int Map::trackedPoints(long kf_id, size_t min_observations, double max_depth, in
 
 long Map::mostCovisibleKeyframe(const std::vector<long>& ids, long fallback) const {
   std::lock_guard<std::mutex> lk(mutex_);
-  std::unordered_map<long, int> shared;  // keyframe id -> points of `ids` it observes
+  const std::vector<std::pair<int, long>> order = covisibilityLocked(ids, -1);
+  return order.empty() ? fallback : order.front().second;
+}
+
+std::vector<std::pair<int, long>> Map::covisibilityLocked(const std::vector<long>& ids, long exclude,
+                                                          bool fill_recent) const {
+  std::map<long, int> shared;
   for (long pid : ids) {
     auto pt = pid < 0 ? points_.end() : points_.find(pid);
-    if (pt != points_.end())
-      for (const auto& kv : pt->second->obs) ++shared[kv.first];
+    if (pt == points_.end()) continue;
+    for (const auto& o : pt->second->obs)
+      if (o.first != exclude) shared[o.first]++;
   }
-  std::pair<int, long> best(0, fallback);  // most points, then the newest keyframe
-  for (const auto& kv : shared) best = std::max(best, std::make_pair(kv.second, kv.first));
-  return best.second;
+  std::vector<std::pair<int, long>> order;
+  for (const auto& c : shared) order.emplace_back(c.second, c.first);
+  std::sort(order.rbegin(), order.rend());
+  for (auto k = keyframes_.rbegin(); fill_recent && k != keyframes_.rend(); ++k)
+    if (k->first != exclude && !shared.count(k->first)) order.emplace_back(0, k->first);
+  return order;
 }
 
 int Map::pointsNearerThan(const std::vector<long>& ids, const Eigen::Isometry3d& T_c_w, double max_depth) const {
@@ -338,29 +347,18 @@ bool Map::claimForTriangulation(long kf_id, int num_neighbors, TriangulationInpu
   if (in->keyframe->triangulated.exchange(true)) return false;  // done already (tracker or mapping thread)
   in->point_id = in->keyframe->point_id;
   in->T_c_w = in->keyframe->T_c_w;
-  std::map<long, int> covisibility;
   std::vector<double> depths;
   for (long pid : in->point_id) {
-    if (pid < 0) continue;
-    auto pt = points_.find(pid);
-    if (pt == points_.end()) continue;
-    depths.push_back((in->T_c_w * pt->second->p_w).z());
-    for (const auto& o : pt->second->obs)
-      if (o.first != kf_id) covisibility[o.first]++;
+    auto pt = pid < 0 ? points_.end() : points_.find(pid);
+    if (pt != points_.end()) depths.push_back((in->T_c_w * pt->second->p_w).z());
   }
   in->median_depth = 1.0;
   if (!depths.empty()) {
     std::nth_element(depths.begin(), depths.begin() + depths.size() / 2, depths.end());
     in->median_depth = depths[depths.size() / 2];
   }
-  std::vector<std::pair<int, long>> order;
-  for (const auto& c : covisibility) order.emplace_back(c.second, c.first);
-  std::sort(order.rbegin(), order.rend());
-  // Fill with the most recent keyframes when covisibility is thin.
-  for (auto k = keyframes_.rbegin(); k != keyframes_.rend(); ++k)
-    if (k->first != kf_id && !covisibility.count(k->first)) order.emplace_back(0, k->first);
   in->neighbors.clear();
-  for (const auto& o : order) {
+  for (const auto& o : covisibilityLocked(in->point_id, kf_id, true)) {
     if (static_cast<int>(in->neighbors.size()) >= num_neighbors) break;
     auto k = keyframes_.find(o.second);
     if (k == keyframes_.end()) continue;

@@ -14,20 +14,13 @@ std::vector<FusionTarget> fusionTargets(const Map& map, long kf_id, int num_neig
   auto it = keyframes.find(kf_id);
   if (it == keyframes.end() || num_neighbors <= 0) return out;
   const Keyframe& kf = *it->second;
-  // Covisibility: shared points per other keyframe; most shared first, then the most recent.
-  std::map<long, int> covisibility;
   std::vector<const MapPoint*> own;
   for (long pid : kf.point_id) {
-    if (pid < 0) continue;
-    auto pt = points.find(pid);
-    if (pt == points.end()) continue;
-    own.push_back(pt->second.get());
-    for (const auto& o : pt->second->obs)
-      if (o.first != kf_id) covisibility[o.first]++;
+    auto pt = pid < 0 ? points.end() : points.find(pid);
+    if (pt != points.end()) own.push_back(pt->second.get());
   }
-  std::vector<std::pair<int, long>> order;
-  for (const auto& c : covisibility) order.emplace_back(c.second, c.first);
-  std::sort(order.rbegin(), order.rend());
+  // Covisibility: shared points per other keyframe; most shared first, then the most recent.
+  std::vector<std::pair<int, long>> order = map.covisibilityLocked(kf.point_id, kf_id);
   if (static_cast<int>(order.size()) > num_neighbors) order.resize(num_neighbors);
 
   FusionTarget self{it->second, kf.T_c_w, kf.point_id, {}};

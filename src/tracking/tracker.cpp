@@ -127,10 +127,12 @@ bool Tracker::Impl::trackWithMotionModel(Frame& cur, TrackResult* res) {
   // After darkness: where the velocity before the dark has taken the camera is a seed too (a vehicle keeps going in
   // the dark); when a search from there ends with more map inliers than one from the last pose, the relocalization's
   // ranked candidates decide (that seed among them).
-  if (after_dark && movedOnSeed(cur, T_last) &&
-      pose_tracker.inliersFrom(cur, *moved_on_seed, map, false, true) >
-          pose_tracker.inliersFrom(cur, T_last, map, predictionUnknown(), false))
-    return false;
+  if (after_dark) {
+    const std::optional<Eigen::Isometry3d> moved_on = movedOnSeed(cur, T_last);
+    if (moved_on && pose_tracker.inliersFrom(cur, *moved_on, map, false, true) >
+                        pose_tracker.inliersFrom(cur, T_last, map, predictionUnknown(), false))
+      return false;
+  }
   // After darkness the last pose is only a guess: a relocalization from the search around it needs
   // kMinAcceptedInliers before that search is narrowed around the refined pose (PoseTracker::trackLocalMap).
   const int min_search_inliers = after_dark ? Relocalizer::kMinAcceptedInliers : 0;

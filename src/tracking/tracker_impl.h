@@ -56,7 +56,6 @@ struct Tracker::Impl {
   Eigen::Isometry3d velocity_before_dark = Eigen::Isometry3d::Identity();
   bool have_velocity_before_dark = false;
   bool moved_on_after_dark = false;  // this frame was tracked from that seed
-  std::optional<Eigen::Isometry3d> moved_on_seed;
   bool metric_map = false;  // the map was made from a stereo frame (its scale is observed)
   PoseCovarianceCalibrator covariance_calibrator;  // of the poses output as TRACKING
   long last_kf_id = -1;
@@ -94,9 +93,9 @@ struct Tracker::Impl {
   bool initializeStereo(Frame& cur, TrackResult* res);
   bool mapBaselineSettled(const Frame& cur) const;
   bool trackWithMotionModel(Frame& cur, TrackResult* res);
-  /// After darkness: *moved_on_seed = the last pose moved on at the velocity before the dark over the frames since the
-  /// last tracked one; false (and none) without that velocity.
-  bool movedOnSeed(const Frame& cur, const Eigen::Isometry3d& T_last);
+  /// After darkness: the last pose moved on at the velocity before the dark over the frames since the last tracked
+  /// one; none without that velocity.
+  std::optional<Eigen::Isometry3d> movedOnSeed(const Frame& cur, const Eigen::Isometry3d& T_last) const;
   Eigen::Isometry3d lastPose() const;
   /// Orders relocalization candidates by the map inliers tracking from each ends with (most first; ties keep the
   /// relocalizer's order).

@@ -20,9 +20,11 @@ bool Tracker::Impl::relocalizeAfterDarkness(Frame& cur, TrackResult* res) {
   const auto t0 = SteadyClock::now();
   const Eigen::Isometry3d T_last = lastPose();
   std::vector<RelocalizationCandidate> candidates = relocalizer.candidates(cur, map, 3);
-  if (signal.awaitingRelocalization() && movedOnSeed(cur, T_last)) {
+  const std::optional<Eigen::Isometry3d> moved_on =
+      signal.awaitingRelocalization() ? movedOnSeed(cur, T_last) : std::nullopt;
+  if (moved_on) {
     RelocalizationCandidate moved;
-    moved.T_c_w = *moved_on_seed;
+    moved.T_c_w = *moved_on;
     moved.moved_on = true;
     candidates.push_back(moved);
   }
@@ -39,14 +41,12 @@ bool Tracker::Impl::relocalizeAfterDarkness(Frame& cur, TrackResult* res) {
   return false;
 }
 
-bool Tracker::Impl::movedOnSeed(const Frame& cur, const Eigen::Isometry3d& T_last) {
+std::optional<Eigen::Isometry3d> Tracker::Impl::movedOnSeed(const Frame& cur, const Eigen::Isometry3d& T_last) const {
   const long frames = cur.index - last.index;
-  moved_on_seed.reset();
-  if (!have_velocity_before_dark || frames < 1) return false;
+  if (!have_velocity_before_dark || frames < 1) return std::nullopt;
   Eigen::Isometry3d T = T_last;
   for (long k = 0; k < frames; ++k) T = velocity_before_dark * T;
-  moved_on_seed = T;
-  return true;
+  return T;
 }
 
 void Tracker::Impl::rankByTrackedInliers(const Frame& cur, std::vector<RelocalizationCandidate>* candidates) const {

@@ -5,11 +5,11 @@
 // --stereo, iraf_vo_run with default settings): before that seed the monocular run ended at 10.6 % of the path and
 // the stereo one at 16.3 % with a Sim(3) scale of 1.69; now 0.25 % and 0.81 % / 1.022.
 #include <gtest/gtest.h>
-#include <sys/stat.h>
 
 #include <string>
 
 #include "common/run_command.h"
+#include "common/test_data.h"
 #include "common/text_file.h"
 #include "common/tmp_dir.h"
 #include "iraf_vo/eval/trajectory_eval.h"
@@ -19,10 +19,7 @@ namespace {
 
 const std::string kBin = std::string(IRAF_VO_BIN_DIR);
 
-bool exists(const std::string& p) {
-  struct stat st;
-  return stat(p.c_str(), &st) == 0;
-}
+using iraf_vo_test::exists;
 
 // iraf_vo_run on `seq` ("--stereo" or ""): seq/<tag>.txt and seq/<tag>.json (returned).
 std::string runTracked(const std::string& seq, const std::string& stereo, const std::string& tag) {

@@ -213,6 +213,10 @@ class Map {
   /// Moves gone's observations to keep (where keep has none in that keyframe) and erases gone (applyFusion).
   void mergePointsLocked(MapPoint* keep, MapPoint* gone);
   LocalPoint localPointLocked(const MapPoint& mp, const CameraModel* camera) const;
+  /// (shared points, keyframe id) of every keyframe but `exclude` observing points of `ids` (-1: none), the most
+  /// shared first, then the newest; fill_recent: then (0, id) of the other keyframes, newest first.
+  std::vector<std::pair<int, long>> covisibilityLocked(const std::vector<long>& ids, long exclude,
+                                                       bool fill_recent = false) const;
 
   std::mutex update_mutex_;  // lockUpdates(); taken before mutex_
   mutable std::mutex mutex_;
